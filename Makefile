@@ -1,0 +1,47 @@
+# Two commands do everything on a fresh machine: `make demo` and `make test` (both install first).
+SHELL := /bin/bash
+PYTHON ?= python3
+VENV := .venv
+PY := $(VENV)/bin/python
+PIP := $(PY) -m pip
+STAMP := $(VENV)/.installed
+LLVM_LIB := /usr/lib/x86_64-linux-gnu/libLLVM-19.so
+# Mitsuba's CPU backend must load LLVM 19: LLVM 15/16 abort on the first path-tracing kernel.
+export DRJIT_LIBLLVM_PATH := $(LLVM_LIB)
+DEMO_OUT ?= out/demo
+
+.PHONY: install test test-fast demo lint clean
+
+install: $(STAMP)
+
+$(LLVM_LIB):
+	@if [ "$$(id -u)" = 0 ]; then \
+		apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libllvm19; \
+	else \
+		sudo apt-get update -qq && sudo DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libllvm19; \
+	fi
+
+$(STAMP): pyproject.toml $(LLVM_LIB)
+	test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	# torch first: the pinned CPU wheel; any looser spec pulls GBs of CUDA packages.
+	$(PIP) install -q torch==2.13.0
+	$(PIP) install -q -e '.[dev,runtime]'
+	touch $(STAMP)
+
+test: install
+	$(PY) -m pytest -q -n 2 --dist loadgroup
+
+# The inner loop while developing: skips tests marked slow (rendering).
+test-fast: install
+	$(PY) -m pytest -q -n 2 --dist loadgroup -m "not slow"
+
+demo: install
+	$(VENV)/bin/vc-scene check scenes/demo/scene.yaml --json $(DEMO_OUT)/scene-check.json
+	$(VENV)/bin/vc-scene show scenes/demo/scene.yaml -o $(DEMO_OUT)/overlay.png
+	@echo "demo overlay: $(DEMO_OUT)/overlay.png"
+
+lint: install
+	$(VENV)/bin/ruff check .
+
+clean:
+	rm -rf $(VENV) out .pytest_cache .hypothesis

@@ -1,0 +1,138 @@
+"""Load a scene YAML into a :class:`Scene`: validated fields, resolved paths, a camera, and a content hash.
+
+All the ways a scene file can be wrong end here as one :class:`vc.errors.InputError` naming the file and the
+field — YAML syntax, schema violations, missing or unreadable files, an image whose size is not the
+calibration's — so that commands can print one line and exit with status 2.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import yaml
+from pydantic import ValidationError
+
+from vc.calibration.camera import Camera
+from vc.calibration.distortion import distortion_from_dict
+from vc.calibration.readers import read_calibration
+from vc.errors import InputError
+from vc.io import image_size
+from vc.scenes.layout import Layout
+from vc.scenes.schema import Lighting, Priors, RegionPlanSpec, SceneFile
+
+#: Folder of the scenes shipped with the package (``demo``, ``pets09_s2l1``).
+BUNDLED_SCENES = Path(__file__).resolve().parent
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A loaded, validated scene: what every stage after ``vc-scene check`` starts from."""
+
+    name: str
+    path: Path
+    image_path: Path
+    camera: Camera
+    response: str
+    layout: Layout
+    priors: Priors
+    lighting: Lighting | str
+    effects: list[str] | str
+    regions: RegionPlanSpec
+    content_hash: str
+
+    @property
+    def folder(self) -> Path:
+        return self.path.parent
+
+
+def _field(location: tuple) -> str:
+    return ".".join(str(part) for part in location) or "(top level)"
+
+
+def _pydantic_error(path: Path, error: ValidationError) -> InputError:
+    """The first (most specific) validation error as one line; pydantic's tagged-union tags are dropped."""
+    first = error.errors(include_url=False)[0]
+    location = tuple(part for part in first["loc"] if part not in ("box", "cylinder"))
+    message = first["msg"].removeprefix("Value error, ")
+    if first["type"] == "missing":
+        message = "missing required field"
+    elif first["type"] == "extra_forbidden":
+        message = "unknown field (check the spelling)"
+    return InputError(path, _field(location), message)
+
+
+def read_scene_file(path: Path) -> SceneFile:
+    """Parse and validate the YAML (no file other than the YAML is touched)."""
+    if not path.is_file():
+        raise InputError(path, "", "scene file not found")
+    try:
+        raw = yaml.safe_load(path.read_text())
+    except yaml.YAMLError as error:
+        mark = getattr(error, "problem_mark", None)
+        where = f"line {mark.line + 1}" if mark is not None else ""
+        raise InputError(path, where, f"not valid YAML ({getattr(error, 'problem', None) or error})") from None
+    except UnicodeDecodeError:
+        raise InputError(path, "", "not a text file") from None
+    if not isinstance(raw, dict):
+        raise InputError(path, "", "a scene file must be a YAML mapping (name, image, camera, layout, ...)")
+    try:
+        return SceneFile.model_validate(raw)
+    except ValidationError as error:
+        raise _pydantic_error(path, error) from None
+
+
+def _camera(path: Path, spec: SceneFile) -> tuple[Camera, str, list[Path]]:
+    """The scene's camera, its response, and the extra files it was read from (for the content hash)."""
+    if spec.camera is not None:
+        inline = spec.camera
+        try:
+            camera = Camera(
+                width=inline.size[0], height=inline.size[1], K=np.asarray(inline.K), R=inline.rotation(),
+                t=np.asarray(inline.t), distortion=distortion_from_dict(inline.distortion.model_dump()),
+            )
+        except ValueError as error:
+            raise InputError(path, "camera", str(error)) from None
+        return camera, inline.response, []
+    reference = spec.calibration
+    calibration_path = (path.parent / reference.path).resolve()
+    if not calibration_path.is_file():
+        raise InputError(path, "calibration.path", f"file not found: {calibration_path}")
+    size = tuple(reference.size) if reference.size else None
+    camera = read_calibration(calibration_path, reference.format, size, reference.units)
+    if size is not None and camera.size != size:
+        raise InputError(path, "calibration.size", f"scene says {size[0]}x{size[1]} but {calibration_path.name} "
+                                                   f"says {camera.width}x{camera.height}")
+    return camera, reference.response, [calibration_path]
+
+
+def _resolve_image(path: Path, spec: SceneFile) -> Path:
+    candidate = (path.parent / spec.image).resolve()
+    if not candidate.is_file():
+        raise InputError(path, "image", f"file not found: {candidate}")
+    return candidate
+
+
+def load_scene(path: str | Path) -> Scene:
+    """Load and validate a scene YAML; see the module docstring for what is checked."""
+    path = Path(path).resolve()
+    spec = read_scene_file(path)
+    image_path = _resolve_image(path, spec)
+    camera, response, extra_files = _camera(path, spec)
+    try:
+        width, height = image_size(image_path)
+    except InputError as error:
+        raise InputError(path, "image", f"{image_path.name}: {error.reason}") from None
+    if (width, height) != camera.size:
+        raise InputError(path, "image", f"{image_path.name} is {width}x{height} but the camera is "
+                                        f"{camera.width}x{camera.height}")
+    digest = hashlib.sha256()
+    for file in (path, image_path, *extra_files):
+        digest.update(file.read_bytes())
+    return Scene(
+        name=spec.name, path=path, image_path=image_path, camera=camera, response=response, layout=spec.layout,
+        priors=spec.priors, lighting=spec.lighting, effects=spec.effects, regions=spec.regions,
+        content_hash=digest.hexdigest(),
+    )

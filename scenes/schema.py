@@ -1,0 +1,206 @@
+"""The scene description (YAML) as pydantic models: every field typed and validated.
+
+See DESIGN.md, "Scene description". Paths are kept as written; :mod:`vc.scenes.loader` resolves them relative
+to the YAML file and turns validation errors into one line naming the file and the field.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from typing import Annotated, Literal
+
+import numpy as np
+from pydantic import AfterValidator, Field, field_validator, model_validator
+
+from vc.calibration.readers import READERS, UNIT_SCALE
+from vc.scenes.layout import Layout, StrictModel, Vec2, validate_ground_polygon
+
+Matrix3 = Annotated[list[Annotated[list[float], Field(min_length=3, max_length=3)]], Field(min_length=3,
+                                                                                          max_length=3)]
+Size = Annotated[list[Annotated[int, Field(gt=0)]], Field(min_length=2, max_length=2)]
+
+#: Camera responses accepted today: sRGB, linear, or a pure gamma ("gamma 2.2").
+RESPONSE_PATTERN = re.compile(r"^(srgb|linear|gamma\s+\d+(\.\d+)?)$")
+#: Effects the renderer knows (DESIGN.md "Effects"); ``auto`` lets the scene decide which it needs.
+EFFECT_NAMES = ("lens_distortion", "shadows", "motion_blur", "sensor_noise", "jpeg", "defocus")
+
+
+def _response(value: str) -> str:
+    if not RESPONSE_PATTERN.match(value.strip().lower()):
+        raise ValueError(f"unknown camera response {value!r} (expected srgb, linear or 'gamma G')")
+    return value.strip().lower()
+
+
+Response = Annotated[str, AfterValidator(_response)]
+
+
+class DistortionSpec(StrictModel):
+    model: Literal["none", "opencv", "tsai"] = "none"
+    k: list[float] | None = None
+    kappa: float | None = None
+
+    @model_validator(mode="after")
+    def _coefficients(self) -> DistortionSpec:
+        if self.model == "opencv" and (self.k is None or len(self.k) not in (4, 5)):
+            raise ValueError("opencv distortion needs k: [k1, k2, p1, p2] or [k1, k2, p1, p2, k3]")
+        if self.model == "tsai" and self.kappa is None:
+            raise ValueError("tsai distortion needs kappa (normalised units)")
+        if self.k is not None and not np.isfinite(self.k).all():
+            raise ValueError("distortion coefficients must be finite")
+        return self
+
+
+class InlineCamera(StrictModel):
+    """A camera written out in the scene: ``K``, distortion, and ``R``/``t`` (world -> camera, metres)."""
+
+    size: Size
+    K: Matrix3
+    distortion: DistortionSpec = DistortionSpec()
+    R: Matrix3 | None = None
+    rvec: Annotated[list[float], Field(min_length=3, max_length=3)] | None = None
+    t: Annotated[list[float], Field(min_length=3, max_length=3)]
+    response: Response = "srgb"
+
+    @model_validator(mode="after")
+    def _one_rotation(self) -> InlineCamera:
+        if (self.R is None) == (self.rvec is None):
+            raise ValueError("give exactly one of R (3x3) or rvec (Rodrigues vector)")
+        return self
+
+    def rotation(self) -> np.ndarray:
+        if self.R is not None:
+            return np.asarray(self.R, dtype=np.float64)
+        rvec = np.asarray(self.rvec, dtype=np.float64)
+        angle = np.linalg.norm(rvec)
+        if angle < 1e-15:
+            return np.eye(3)
+        k = rvec / angle
+        kx = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+        return np.eye(3) + np.sin(angle) * kx + (1 - np.cos(angle)) * kx @ kx
+
+
+class CalibrationRef(StrictModel):
+    """A calibration file next to the scene, in one of the formats of :mod:`vc.calibration.readers`."""
+
+    format: str
+    path: Path
+    size: Size | None = None
+    units: str | None = None
+    response: Response = "srgb"
+
+    @field_validator("format")
+    @classmethod
+    def _known_format(cls, value: str) -> str:
+        if value not in READERS:
+            raise ValueError(f"unknown calibration format {value!r} (expected one of {', '.join(sorted(READERS))})")
+        return value
+
+    @field_validator("units")
+    @classmethod
+    def _known_units(cls, value: str | None) -> str | None:
+        if value is not None and value not in UNIT_SCALE:
+            raise ValueError(f"unknown units {value!r} (expected one of {', '.join(UNIT_SCALE)})")
+        return value
+
+
+class VonMises(StrictModel):
+    mean_deg: float
+    kappa: float = Field(ge=0)
+    weight: float = Field(1.0, gt=0)
+
+
+class Priors(StrictModel):
+    """What is known about the people of this scene; defaults cover adults walking anywhere."""
+
+    orientation: Literal["uniform"] | Annotated[list[VonMises], Field(min_length=1)] = "uniform"
+    height_m: Annotated[list[Annotated[float, Field(gt=0.5, lt=2.6)]], Field(min_length=2, max_length=2)] = [
+        1.5, 1.95]
+
+    @field_validator("height_m")
+    @classmethod
+    def _ordered(cls, value: list[float]) -> list[float]:
+        if value[0] >= value[1]:
+            raise ValueError(f"height_m must be [low, high] with low < high, got {value}")
+        return value
+
+
+class Lighting(StrictModel):
+    """Explicit sun and sky (``lighting: auto`` estimates them from the background image instead)."""
+
+    sun_azimuth_deg: float = 135.0
+    sun_elevation_deg: float = Field(45.0, ge=-10, le=90)
+    sun_strength: float = Field(3.0, ge=0)
+    sky_strength: float = Field(1.0, ge=0)
+
+
+class NamedPolygon(StrictModel):
+    name: str = Field(pattern=r"^[A-Za-z0-9_-]+$")
+    polygon: list[Vec2]
+
+    @field_validator("polygon")
+    @classmethod
+    def _simple(cls, value: list[list[float]]) -> list[list[float]]:
+        validate_ground_polygon(value)
+        return value
+
+
+class RegionPlanSpec(StrictModel):
+    """How the walkable area is split into regions, each with its own network (DESIGN.md "Regions").
+
+    ``auto`` cuts depth bands in which the height of a ``reference_height_m`` person in pixels varies by at most
+    ``max_height_ratio``; ``single`` is the paper's SPN-G (one region for everything); ``explicit`` takes the
+    ground ``polygons`` as given.
+    """
+
+    mode: Literal["auto", "single", "explicit"] = "auto"
+    max_height_ratio: float = Field(1.6, gt=1.0)
+    reference_height_m: float = Field(1.75, gt=0.5, lt=2.6)
+    target_person_px: float = Field(80.0, ge=16)
+    min_person_px: float = Field(16.0, gt=0)
+    max_upscale: float = Field(2.0, ge=1.0)
+    margin_px: int = Field(8, ge=0)
+    input_multiple: int = Field(16, ge=1, le=128)
+    polygons: list[NamedPolygon] | None = None
+
+    @model_validator(mode="after")
+    def _polygons_iff_explicit(self) -> RegionPlanSpec:
+        if (self.mode == "explicit") != (self.polygons is not None):
+            raise ValueError("polygons are given exactly when mode is explicit")
+        if self.polygons is not None:
+            names = [p.name for p in self.polygons]
+            if len(set(names)) != len(names):
+                raise ValueError("region names must be unique")
+        return self
+
+
+class SceneFile(StrictModel):
+    """The whole scene YAML."""
+
+    name: str = Field(pattern=r"^[A-Za-z0-9_.-]+$")
+    image: Path
+    camera: InlineCamera | None = None
+    calibration: CalibrationRef | None = None
+    layout: Layout
+    priors: Priors = Priors()
+    lighting: Literal["auto"] | Lighting = "auto"
+    effects: Literal["auto"] | list[Literal[EFFECT_NAMES]] = "auto"  # type: ignore[valid-type]
+    regions: RegionPlanSpec = RegionPlanSpec()
+
+    @field_validator("regions", mode="before")
+    @classmethod
+    def _regions_shorthand(cls, value):
+        """``regions: auto`` / ``single`` / a list of named polygons are shorthands for the full spec."""
+        if isinstance(value, str):
+            if value not in ("auto", "single"):
+                raise ValueError(f"expected auto, single, a mapping or a list of regions, got {value!r}")
+            return {"mode": value}
+        if isinstance(value, list):
+            return {"mode": "explicit", "polygons": value}
+        return value
+
+    @model_validator(mode="after")
+    def _one_camera(self) -> SceneFile:
+        if (self.camera is None) == (self.calibration is None):
+            raise ValueError("give exactly one of camera (inline) or calibration (a file)")
+        return self

@@ -1,0 +1,47 @@
+"""Shared fixtures: bundled scenes, the real PETS data (skipped with a reason when absent), test cameras."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from vc.calibration.camera import Camera, look_at
+from vc.calibration.distortion import BrownConrady
+
+REPO = Path(__file__).resolve().parents[1]
+PETS_DATA = REPO.parent / "shared" / "data" / "pets09_s2l1"
+TESTS_DATA = Path(__file__).resolve().parent / "data"
+
+#: Oxford Town Centre intrinsics (Benfold & Reid, CVPR 2011), as published with the dataset.
+TOWN_CENTRE = {"fx": 2696.35888671875, "fy": 2696.35888671875, "cx": 959.5, "cy": 539.5,
+               "k1": -0.6015, "k2": 4.7020, "p1": -0.000475, "p2": -0.007823, "size": (1920, 1080)}
+
+
+@pytest.fixture(scope="session")
+def pets_data() -> Path:
+    if not (PETS_DATA / "View_001.xml").is_file():
+        pytest.skip(f"PETS 2009 S2.L1 data not found at {PETS_DATA} (development data, not shipped)")
+    return PETS_DATA
+
+
+@pytest.fixture(scope="session")
+def pets_camera(pets_data: Path) -> Camera:
+    from vc.calibration.readers import read_tsai_xml
+
+    return read_tsai_xml(pets_data / "View_001.xml")
+
+
+def town_centre_camera() -> Camera:
+    tc = TOWN_CENTRE
+    R, t = look_at([0.0, -12.0, 8.0], [0.0, 6.0, 0.0])
+    K = np.array([[tc["fx"], 0, tc["cx"]], [0, tc["fy"], tc["cy"]], [0, 0, 1]])
+    return Camera(*tc["size"], K=K, R=R, t=t, distortion=BrownConrady(tc["k1"], tc["k2"], tc["p1"], tc["p2"]))
+
+
+def pixel_grid(camera: Camera, step: int = 16) -> np.ndarray:
+    """A pixel grid that includes the four image corners and the borders (pixel centres)."""
+    us = np.unique(np.r_[np.arange(0, camera.width, step), camera.width - 1]).astype(np.float64)
+    vs = np.unique(np.r_[np.arange(0, camera.height, step), camera.height - 1]).astype(np.float64)
+    return np.stack(np.meshgrid(us, vs), axis=-1).reshape(-1, 2)

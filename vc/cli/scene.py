@@ -1,0 +1,139 @@
+"""``vc-scene``: check a scene description, draw it over its background, or make a background from a video.
+
+    vc-scene check SCENE [--json OUT.json]
+    vc-scene show SCENE -o overlay.png
+    vc-scene background VIDEO -o background.png [--frames N]
+    vc-scene synthesize SCENE -o background.png [--spp S] [--seed K]
+
+Bad input (a malformed scene, a missing file, an unreadable video) prints one ``error:`` line naming the file
+and the field, and exits with status 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+from vc import __version__
+from vc.cli.common import handles_input_errors
+from vc.io import read_image, write_image, write_json
+from vc.scenes.loader import Scene, load_scene
+from vc.scenes.regions import Region, plan_regions
+
+
+def scene_summary(scene: Scene, regions: list[Region]) -> dict:
+    """Everything ``check`` reports, as JSON-ready data."""
+    camera = scene.camera
+    return {
+        "scene": scene.name,
+        "path": str(scene.path),
+        "content_hash": scene.content_hash,
+        "image": str(scene.image_path),
+        "camera": {
+            **camera.to_dict(),
+            "centre_m": [round(float(v), 4) for v in camera.center],
+            "response": scene.response,
+        },
+        "layout": {
+            "walkable_area_m2": round(float(scene.layout.walkable_area().area), 2),
+            "obstacles": len(scene.layout.obstacles),
+            "walls": len(scene.layout.walls),
+        },
+        "region_mode": scene.regions.mode,
+        "regions": [region.to_dict() for region in regions],
+    }
+
+
+def _print_summary(summary: dict) -> None:
+    camera = summary["camera"]
+    K = camera["K"]
+    width, height = camera["size"]
+    print(f"scene   {summary['scene']}  ({summary['path']})")
+    print(f"hash    {summary['content_hash'][:16]}")
+    print(f"camera  {width}x{height}  fx={K[0][0]:.1f} fy={K[1][1]:.1f} cx={K[0][2]:.1f} cy={K[1][2]:.1f}  "
+          f"distortion={camera['distortion']['model']}  height={camera['centre_m'][2]:.2f} m  "
+          f"response={camera['response']}")
+    layout = summary["layout"]
+    print(f"layout  walkable {layout['walkable_area_m2']:.1f} m2, {layout['obstacles']} obstacles, "
+          f"{layout['walls']} walls")
+    print(f"regions {len(summary['regions'])} ({summary['region_mode']})")
+    print(f"  {'name':<8}{'ground m2':>10}  {'crop x,y,w,h':<22}{'input':>10}  {'person px':>12}")
+    for region in summary["regions"]:
+        x, y, w, h = region["crop_window"]
+        low, high = region["person_height_px"]
+        print(f"  {region['name']:<8}{region['ground_area_m2']:>10.1f}  {f'{x},{y},{w},{h}':<22}"
+              f"{'x'.join(map(str, region['input_size'])):>10}  {f'{low:.0f}-{high:.0f}':>12}")
+
+
+def cmd_check(args: argparse.Namespace) -> int:
+    scene = load_scene(args.scene)
+    summary = scene_summary(scene, plan_regions(scene))
+    _print_summary(summary)
+    if args.json:
+        write_json(args.json, summary)
+        print(f"wrote {args.json}")
+    return 0
+
+
+def cmd_show(args: argparse.Namespace) -> int:
+    from vc.scenes.overlay import draw_overlay
+
+    scene = load_scene(args.scene)
+    regions = plan_regions(scene)
+    image = draw_overlay(scene, read_image(scene.image_path), regions)
+    write_image(args.output, image)
+    write_json(args.output.with_suffix(".json"), scene_summary(scene, regions))
+    print(f"wrote {args.output} ({len(regions)} regions) and {args.output.with_suffix('.json')}")
+    return 0
+
+
+def cmd_background(args: argparse.Namespace) -> int:
+    from vc.scenes.background import median_background
+
+    started = time.perf_counter()
+    result = median_background(args.video, max_frames=args.frames, progress=sys.stderr.isatty() or None)
+    write_image(args.output, result.image)
+    height, width = result.image.shape[:2]
+    write_json(args.output.with_suffix(".json"), {
+        "video": str(args.video), "method": "per-pixel temporal median", "size": [width, height],
+        "frames_in_video": result.frames_in_video, "frames_used": len(result.frame_indices),
+        "frame_indices": result.frame_indices, "seconds": round(time.perf_counter() - started, 2),
+    })
+    print(f"wrote {args.output}: {width}x{height}, median of {len(result.frame_indices)} of "
+          f"{result.frames_in_video} frames in {time.perf_counter() - started:.1f} s")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="vc-scene", description=__doc__.split("\n\n")[0])
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    commands = parser.add_subparsers(dest="command", required=True)
+
+    check = commands.add_parser("check", help="validate a scene and print its camera and regions")
+    check.add_argument("scene", type=Path)
+    check.add_argument("--json", type=Path, help="also write the summary as JSON here")
+    check.set_defaults(run=cmd_check)
+
+    show = commands.add_parser("show", help="draw the scene's geometry over its background")
+    show.add_argument("scene", type=Path)
+    show.add_argument("-o", "--output", type=Path, required=True, help="overlay PNG (a .json summary beside it)")
+    show.set_defaults(run=cmd_show)
+
+    background = commands.add_parser("background", help="temporal-median background image from a video")
+    background.add_argument("video", type=Path)
+    background.add_argument("-o", "--output", type=Path, required=True)
+    background.add_argument("--frames", type=int, default=150, help="frames sampled evenly (default 150)")
+    background.set_defaults(run=cmd_background)
+    return parser
+
+
+@handles_input_errors
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    return args.run(args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,26 @@
+"""The one error type for bad user input: it names the file, the field and the reason.
+
+Every command catches it at the top (``vc.cli.common``), prints one line and exits with status 2, so a user
+never sees a traceback for a mistake in their own files.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+#: Exit status for bad input (files, fields, arguments), as argparse uses for bad arguments.
+EXIT_BAD_INPUT = 2
+
+
+class InputError(Exception):
+    """Bad input: ``path`` (file or folder), ``field`` (dotted path inside it, or "" for the whole file)."""
+
+    def __init__(self, path: str | Path | None, field: str, reason: str) -> None:
+        self.path = str(path) if path is not None else None
+        self.field = field
+        self.reason = reason
+        super().__init__(str(self))
+
+    def __str__(self) -> str:
+        parts = [p for p in (self.path, self.field) if p]
+        return ": ".join(parts + [self.reason])

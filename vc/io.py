@@ -1,0 +1,100 @@
+"""File output that never leaves a half-written file behind, and image I/O through OpenImageIO.
+
+Everything a stage writes goes to a temporary name in the destination folder first and is renamed into place
+(atomic on POSIX), so a crash or Ctrl-C leaves either the old file or the new one, never a torn one.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import tempfile
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+import OpenImageIO as oiio
+
+from vc.errors import InputError
+
+
+@contextlib.contextmanager
+def atomic_path(destination: str | Path) -> Iterator[Path]:
+    """Yield a temporary path beside ``destination``; rename it into place only if the block succeeds."""
+    destination = Path(destination)
+    try:
+        destination.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise InputError(destination.parent, "", f"cannot create output folder ({error.strerror})") from None
+    if not os.access(destination.parent, os.W_OK):
+        raise InputError(destination.parent, "", "output folder is not writable")
+    handle, temporary = tempfile.mkstemp(prefix=f".{destination.name}.", suffix=".tmp" + destination.suffix,
+                                         dir=destination.parent)
+    os.close(handle)
+    temporary_path = Path(temporary)
+    try:
+        yield temporary_path
+        os.replace(temporary_path, destination)
+    finally:
+        temporary_path.unlink(missing_ok=True)
+
+
+def write_json(destination: str | Path, data: object) -> None:
+    with atomic_path(destination) as temporary:
+        temporary.write_text(json.dumps(data, indent=2, sort_keys=False) + "\n")
+
+
+def read_image(path: str | Path) -> np.ndarray:
+    """An image file as an (H, W, 3) uint8 array (grey is expanded, alpha dropped)."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(path, "", "image file not found")
+    image_input = oiio.ImageInput.open(str(path))
+    if image_input is None:
+        raise InputError(path, "", f"cannot read image ({oiio.geterror().strip() or 'unknown format'})")
+    try:
+        pixels = image_input.read_image(oiio.UINT8)
+    finally:
+        image_input.close()
+    if pixels is not None and pixels.ndim == 2:
+        pixels = pixels[:, :, None]
+    if pixels is None or pixels.ndim != 3:
+        raise InputError(path, "", "cannot decode image pixels")
+    if pixels.shape[2] == 1:
+        pixels = np.repeat(pixels, 3, axis=2)
+    return np.ascontiguousarray(pixels[:, :, :3])
+
+
+def image_size(path: str | Path) -> tuple[int, int]:
+    """(width, height) from the file header, without decoding the pixels."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(path, "", "image file not found")
+    image_input = oiio.ImageInput.open(str(path))
+    if image_input is None:
+        raise InputError(path, "", f"cannot read image ({oiio.geterror().strip() or 'unknown format'})")
+    spec = image_input.spec()
+    image_input.close()
+    return spec.width, spec.height
+
+
+def write_image(destination: str | Path, pixels: np.ndarray) -> None:
+    """Write an (H, W, C) uint8 image (PNG, JPEG… by extension) atomically."""
+    pixels = np.ascontiguousarray(pixels)
+    if pixels.dtype != np.uint8:
+        raise TypeError(f"write_image expects uint8 pixels, got {pixels.dtype}")
+    height, width = pixels.shape[:2]
+    channels = pixels.shape[2] if pixels.ndim == 3 else 1
+    destination = Path(destination)
+    with atomic_path(destination) as temporary:
+        # OpenImageIO picks the format from the extension: keep the real one at the end of the temporary name.
+        output = oiio.ImageOutput.create(str(destination))
+        if output is None:
+            raise InputError(destination, "", f"unsupported image format ({oiio.geterror().strip()})")
+        spec = oiio.ImageSpec(width, height, channels, oiio.UINT8)
+        if not output.open(str(temporary), spec) or not output.write_image(pixels):
+            message = output.geterror()
+            output.close()
+            raise OSError(f"cannot write {destination}: {message}")
+        output.close()
