@@ -135,7 +135,7 @@ def read_opencv(path: Path, size: tuple[int, int] | None = None, units: str = "m
     _require_file(path)
     try:
         storage = cv2.FileStorage(str(path), cv2.FILE_STORAGE_READ)
-    except cv2.error as error:
+    except (cv2.error, SystemError) as error:  # the binding wraps some parse errors as SystemError
         reason = str(error).strip().splitlines()[-1] if str(error).strip() else "unreadable"
         raise InputError(path, "", f"not a cv::FileStorage YAML/JSON file ({reason})") from None
     if not storage.isOpened():

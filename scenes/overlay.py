@@ -132,6 +132,7 @@ def draw_overlay(scene: Scene, background: np.ndarray, regions: list[Region]) ->
         colour = WALL_COLOUR if blocker in scene.layout.walls else OBSTACLE_COLOUR
         _draw_segments(image, camera, blocker.edges(), colour, 1)
     horizon = camera.horizon_pixels()
+    horizon = horizon[camera.is_in_image(horizon, margin=max(camera.size))]
     if len(horizon) >= 2 and camera.is_in_image(horizon).any():
         cv2.polylines(image, [_to_pixels(horizon)], False, (255, 255, 0), 1, cv2.LINE_AA, shift=4)
     for index, region in enumerate(regions):
