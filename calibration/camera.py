@@ -18,7 +18,6 @@ from dataclasses import dataclass, field, replace
 from typing import NamedTuple
 
 import numpy as np
-
 from vc.calibration.distortion import Distortion, NoDistortion, distortion_from_dict
 
 #: Points closer than this to the camera plane (metres along the optical axis) count as behind the camera.

@@ -15,6 +15,7 @@ from pydantic import AfterValidator, BaseModel, ConfigDict, Field, field_validat
 from shapely.geometry import LineString, Polygon
 from shapely.validation import explain_validity
 
+
 def _finite(values: list[float]) -> list[float]:
     if not np.isfinite(np.asarray(values, dtype=np.float64)).all():
         raise ValueError("must be finite numbers")

@@ -7,7 +7,6 @@ import pytest
 from conftest import pixel_grid, town_centre_camera
 from hypothesis import given, settings
 from hypothesis import strategies as st
-
 from vc.calibration.camera import Camera, look_at, rotation_from_quaternion, rotation_xyz
 from vc.calibration.distortion import BrownConrady, NoDistortion, TsaiRadial
 
