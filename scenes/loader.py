@@ -115,12 +115,18 @@ def _resolve_image(path: Path, spec: SceneFile) -> Path:
     return candidate
 
 
-def load_scene(path: str | Path) -> Scene:
-    """Load and validate a scene YAML; see the module docstring for what is checked."""
+def load_scene(path: str | Path, require_image: bool = True) -> Scene:
+    """Load and validate a scene YAML; see the module docstring for what is checked.
+
+    ``require_image=False`` is for making the background itself (``vc-scene synthesize``): the image may not
+    exist yet, and the content hash then covers the YAML and calibration only.
+    """
     path = Path(path).resolve()
     spec = read_scene_file(path)
-    image_path = _resolve_image(path, spec)
     camera, response, extra_files = _camera(path, spec)
+    if not require_image:
+        return _scene(path, spec, (path.parent / spec.image).resolve(), camera, response, extra_files)
+    image_path = _resolve_image(path, spec)
     try:
         width, height = image_size(image_path)
     except InputError as error:
@@ -128,8 +134,13 @@ def load_scene(path: str | Path) -> Scene:
     if (width, height) != camera.size:
         raise InputError(path, "image", f"{image_path.name} is {width}x{height} but the camera is "
                                         f"{camera.width}x{camera.height}")
+    return _scene(path, spec, image_path, camera, response, [image_path, *extra_files])
+
+
+def _scene(path: Path, spec: SceneFile, image_path: Path, camera: Camera, response: str,
+           hashed_files: list[Path]) -> Scene:
     digest = hashlib.sha256()
-    for file in (path, image_path, *extra_files):
+    for file in (path, *hashed_files):
         digest.update(file.read_bytes())
     return Scene(
         name=spec.name, path=path, image_path=image_path, camera=camera, response=response, layout=spec.layout,

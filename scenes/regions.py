@@ -59,6 +59,7 @@ class Region:
     input_size: tuple[int, int]
     person_px: tuple[float, float]
     reference_px: tuple[float, float]
+    owned_image_area: shapely.Geometry
 
     def camera(self, scene_camera: Camera) -> Camera:
         """The camera of this region's network input: the scene camera cropped, then resized."""
@@ -72,13 +73,16 @@ class Region:
     def to_dict(self) -> dict:
         return {
             "name": self.name,
-            "ground_polygon": shapely.geometry.mapping(self.ground),
+            # Outlines simplified for reading: 1 cm on the ground, a quarter pixel in the image.
+            "ground_polygon": shapely.geometry.mapping(shapely.set_precision(self.ground.simplify(0.01), 0.001)),
             "ground_area_m2": round(float(self.ground.area), 3),
             "crop_window": self.crop.to_list(),
             "input_size": list(self.input_size),
             "scale": [round(s, 6) for s in self.scale],
             "person_height_px": [round(v, 2) for v in self.person_px],
             "reference_height_px": [round(v, 2) for v in self.reference_px],
+            "owned_image_area": shapely.geometry.mapping(
+                shapely.set_precision(self.owned_image_area.simplify(0.25), 0.01)),
         }
 
 
@@ -203,6 +207,21 @@ def crop_window(camera: Camera, ground: shapely.Geometry, tallest_m: float, marg
     return CropWindow(int(left), int(top), int(right - left + 1), int(bottom - top + 1))
 
 
+def owned_image_area(camera: Camera, ground: shapely.Geometry, step: float = 0.05) -> shapely.Geometry:
+    """The image area (pixels, clipped to the image) where feet standing on ``ground`` are seen.
+
+    The ground polygons come from the visible fan, so every vertex projects; outlines are densified so that
+    lens distortion bends the edges as it bends the image.
+    """
+    def to_pixels(ring) -> np.ndarray:
+        xy = np.asarray(ring.segmentize(step).coords)[:, :2]
+        return camera.project(np.c_[xy, np.zeros(len(xy))]).uv
+
+    pieces = [Polygon(to_pixels(p.exterior), [to_pixels(r) for r in p.interiors]) for p in _polygons(ground)]
+    image = shapely.box(-0.5, -0.5, camera.width - 0.5, camera.height - 0.5)
+    return shapely.union_all([shapely.make_valid(p) for p in pieces]).intersection(image)
+
+
 def _round_to_multiple(value: float, multiple: int) -> int:
     return max(multiple, int(round(value / multiple)) * multiple)
 
@@ -220,7 +239,7 @@ def _make_region(name: str, camera: Camera, ground: shapely.Geometry, spec: Regi
     scale = min(spec.target_person_px / math.sqrt(reference_px[0] * reference_px[1]), spec.max_upscale)
     input_size = (_round_to_multiple(crop.width * scale, spec.input_multiple),
                   _round_to_multiple(crop.height * scale, spec.input_multiple))
-    return Region(name, ground, crop, input_size, person_px, reference_px)
+    return Region(name, ground, crop, input_size, person_px, reference_px, owned_image_area(camera, ground))
 
 
 def plan_regions(scene: Scene) -> list[Region]:

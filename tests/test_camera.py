@@ -190,3 +190,13 @@ def test_ground_hits_lie_on_the_ground_and_project_back(u, v):
         np.testing.assert_allclose(camera.project(hit.points).uv[0], [u, v], atol=1e-6)
     else:
         assert np.isnan(hit.points[0]).all()
+
+
+@pytest.mark.parametrize("name", CAMERAS)
+def test_dict_form_round_trips(name):
+    from vc.calibration.camera import camera_from_dict
+
+    camera = CAMERAS[name]
+    again = camera_from_dict(camera.to_dict())
+    points = camera.center + 5.0 * camera.unproject(pixel_grid(camera, 80))[0]
+    np.testing.assert_array_equal(again.project(points).uv, camera.project(points).uv)

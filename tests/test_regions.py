@@ -89,6 +89,10 @@ def test_region_map_owner_is_the_region_under_the_foot(unit_scene, unit_regions)
         uv = camera.project(sample_ground(inner, 0.4)).uv
         uv = np.round(uv[camera.is_in_image(uv)]).astype(int)
         assert (owner[uv[:, 1], uv[:, 0]] == index).mean() > 0.99
+        # The owned image area (a polygon, for the bundle manifest) agrees with the per-pixel map.
+        pixels = np.argwhere(owner == index)[:, ::-1]
+        inside = shapely.contains_xy(region.owned_image_area, pixels[:, 0], pixels[:, 1])
+        assert inside.mean() > 0.98
 
 
 def test_single_region_is_the_whole_domain(tmp_path):

@@ -45,14 +45,18 @@ def write_json(destination: str | Path, data: object) -> None:
         temporary.write_text(json.dumps(data, indent=2, sort_keys=False) + "\n")
 
 
-def read_image(path: str | Path) -> np.ndarray:
-    """An image file as an (H, W, 3) uint8 array (grey is expanded, alpha dropped)."""
-    path = Path(path)
+def _open_image(path: Path) -> oiio.ImageInput:
     if not path.is_file():
         raise InputError(path, "", "image file not found")
     image_input = oiio.ImageInput.open(str(path))
     if image_input is None:
         raise InputError(path, "", f"cannot read image ({oiio.geterror().strip() or 'unknown format'})")
+    return image_input
+
+
+def read_image(path: str | Path) -> np.ndarray:
+    """An image file as an (H, W, 3) uint8 array (grey is expanded, alpha dropped)."""
+    image_input = _open_image(Path(path))
     try:
         pixels = image_input.read_image(oiio.UINT8)
     finally:
@@ -68,12 +72,7 @@ def read_image(path: str | Path) -> np.ndarray:
 
 def image_size(path: str | Path) -> tuple[int, int]:
     """(width, height) from the file header, without decoding the pixels."""
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(path, "", "image file not found")
-    image_input = oiio.ImageInput.open(str(path))
-    if image_input is None:
-        raise InputError(path, "", f"cannot read image ({oiio.geterror().strip() or 'unknown format'})")
+    image_input = _open_image(Path(path))
     spec = image_input.spec()
     image_input.close()
     return spec.width, spec.height

@@ -1,0 +1,41 @@
+"""Atomic output and image I/O: a failed write leaves the old file and no temporary behind."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from vc.errors import InputError
+from vc.io import atomic_path, image_size, read_image, write_image, write_json
+
+
+def test_image_round_trip_is_exact(tmp_path):
+    pixels = np.random.default_rng(1).integers(0, 256, (17, 23, 3), dtype=np.uint8)
+    write_image(tmp_path / "a.png", pixels)
+    np.testing.assert_array_equal(read_image(tmp_path / "a.png"), pixels)
+    assert image_size(tmp_path / "a.png") == (23, 17)
+
+
+def test_grey_images_read_as_rgb(tmp_path):
+    grey = np.arange(12, dtype=np.uint8).reshape(3, 4, 1) * 20
+    write_image(tmp_path / "g.png", grey)
+    rgb = read_image(tmp_path / "g.png")
+    assert rgb.shape == (3, 4, 3) and (rgb[..., 1] == grey[..., 0]).all()
+
+
+def test_failed_write_keeps_the_old_file_and_leaves_no_temporary(tmp_path):
+    target = tmp_path / "result.json"
+    write_json(target, {"version": 1})
+    with pytest.raises(RuntimeError), atomic_path(target) as temporary:
+        temporary.write_text("half")
+        raise RuntimeError("crash mid-write")
+    assert target.read_text().strip().startswith("{") and '"version": 1' in target.read_text()
+    assert [p.name for p in tmp_path.iterdir()] == ["result.json"]
+
+
+def test_unreadable_images_are_input_errors(tmp_path):
+    (tmp_path / "bad.png").write_bytes(b"\x89PNG but not really")
+    with pytest.raises(InputError, match="bad.png"):
+        read_image(tmp_path / "bad.png")
+    with pytest.raises(InputError, match="image file not found"):
+        image_size(tmp_path / "absent.png")
