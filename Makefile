@@ -35,10 +35,13 @@ test: install
 test-fast: install
 	$(PY) -m pytest -q -n 2 --dist loadgroup -m "not slow"
 
+# The demo scene end to end as far as the stages go today: render its background from the layout with
+# Mitsuba, validate the scene and plan its regions, and draw the overlay.
 demo: install
+	$(VENV)/bin/vc-scene synthesize scenes/demo/scene.yaml -o $(DEMO_OUT)/background.png --spp 128
 	$(VENV)/bin/vc-scene check scenes/demo/scene.yaml --json $(DEMO_OUT)/scene-check.json
 	$(VENV)/bin/vc-scene show scenes/demo/scene.yaml -o $(DEMO_OUT)/overlay.png
-	@echo "demo overlay: $(DEMO_OUT)/overlay.png"
+	@echo "demo: rendered background $(DEMO_OUT)/background.png, overlay $(DEMO_OUT)/overlay.png"
 
 lint: install
 	$(VENV)/bin/ruff check .

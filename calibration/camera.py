@@ -18,6 +18,7 @@ from dataclasses import dataclass, field, replace
 from typing import NamedTuple
 
 import numpy as np
+
 from vc.calibration.distortion import Distortion, NoDistortion, distortion_from_dict
 
 #: Points closer than this to the camera plane (metres along the optical axis) count as behind the camera.
@@ -100,13 +101,13 @@ class Camera:
         """Camera centre in world coordinates."""
         return -self.R.T @ self.t
 
-    def _pixels_from_normalised(self, xy: np.ndarray) -> np.ndarray:
+    def pixels_from_normalised(self, xy: np.ndarray) -> np.ndarray:
         K = self.K
         u = K[0, 0] * xy[..., 0] + K[0, 1] * xy[..., 1] + K[0, 2]
         v = K[1, 1] * xy[..., 1] + K[1, 2]
         return np.stack([u, v], axis=-1)
 
-    def _normalised_from_pixels(self, uv: np.ndarray) -> np.ndarray:
+    def normalised_from_pixels(self, uv: np.ndarray) -> np.ndarray:
         K = self.K
         y = (uv[..., 1] - K[1, 2]) / K[1, 1]
         x = (uv[..., 0] - K[0, 2] - K[0, 1] * y) / K[0, 0]
@@ -124,13 +125,13 @@ class Camera:
         safe_z = np.where(in_front, z, 1.0)
         normalised = pc[..., :2] / safe_z[..., None]
         distorted, in_domain = self.distortion.distort(np.where(in_front[..., None], normalised, 0.0))
-        uv = self._pixels_from_normalised(distorted)
+        uv = self.pixels_from_normalised(distorted)
         uv[~(in_front & in_domain)] = np.nan
         return Projection(uv, in_front, in_domain)
 
     def unproject(self, uv: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Pixels (..., 2) -> unit ray directions in world coordinates (..., 3), and ``ok``."""
-        normalised, ok = self.distortion.undistort(self._normalised_from_pixels(np.asarray(uv, np.float64)))
+        normalised, ok = self.distortion.undistort(self.normalised_from_pixels(np.asarray(uv, np.float64)))
         rays_cam = np.concatenate([normalised, np.ones(normalised.shape[:-1] + (1,))], axis=-1)
         rays = rays_cam @ self.R  # R.T applied to row vectors
         rays /= np.linalg.norm(rays, axis=-1, keepdims=True)
@@ -182,7 +183,7 @@ class Camera:
         ahead = dc[:, 2] > 1e-9
         normalised = dc[ahead, :2] / dc[ahead, 2:3]
         distorted, ok = self.distortion.distort(normalised)
-        return self._pixels_from_normalised(distorted[ok])
+        return self.pixels_from_normalised(distorted[ok])
 
     # --- image geometry under resize and crop ------------------------------------------------------------------
     def cropped(self, x0: float, y0: float, width: int, height: int) -> Camera:

@@ -18,9 +18,9 @@ from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
+
 from vc.calibration.camera import Camera, rotation_from_quaternion, rotation_xyz
 from vc.calibration.distortion import BrownConrady, TsaiRadial
-
 from vc.errors import InputError
 
 #: Metres per file unit.

@@ -14,14 +14,14 @@ from pathlib import Path
 import numpy as np
 import yaml
 from pydantic import ValidationError
+
 from vc.calibration.camera import Camera
 from vc.calibration.distortion import distortion_from_dict
 from vc.calibration.readers import read_calibration
-from vc.scenes.layout import Layout
-from vc.scenes.schema import Lighting, Priors, RegionPlanSpec, SceneFile
-
 from vc.errors import InputError
 from vc.io import image_size
+from vc.scenes.layout import Layout
+from vc.scenes.schema import Lighting, Priors, RegionPlanSpec, SceneFile
 
 #: Folder of the scenes shipped with the package (``demo``, ``pets09_s2l1``).
 BUNDLED_SCENES = Path(__file__).resolve().parent

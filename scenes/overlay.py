@@ -13,6 +13,7 @@ import math
 import cv2
 import numpy as np
 import shapely
+
 from vc.calibration.camera import Camera
 from vc.scenes.layout import densify_segments
 from vc.scenes.loader import Scene

@@ -16,11 +16,11 @@ import contourpy
 import numpy as np
 import shapely
 from shapely.geometry import Polygon
+
 from vc.calibration.camera import Camera
+from vc.errors import InputError
 from vc.scenes.loader import Scene
 from vc.scenes.schema import RegionPlanSpec
-
-from vc.errors import InputError
 
 #: Ground sampling step for planning, relative to the size of the visible walkable area.
 GRID_CELLS = 320

@@ -12,6 +12,7 @@ from typing import Annotated, Literal
 
 import numpy as np
 from pydantic import AfterValidator, Field, field_validator, model_validator
+
 from vc.calibration.readers import READERS, UNIT_SCALE
 from vc.scenes.layout import Layout, StrictModel, Vec2, validate_ground_polygon
 

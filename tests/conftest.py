@@ -6,6 +6,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+
 from vc.calibration.camera import Camera, look_at
 from vc.calibration.distortion import BrownConrady
 

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import numpy as np
 import yaml
-from vc.calibration.camera import look_at
 
+from vc.calibration.camera import look_at
 from vc.io import write_image
 
 WIDTH, HEIGHT = 320, 240

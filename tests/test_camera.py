@@ -7,6 +7,7 @@ import pytest
 from conftest import pixel_grid, town_centre_camera
 from hypothesis import given, settings
 from hypothesis import strategies as st
+
 from vc.calibration.camera import Camera, look_at, rotation_from_quaternion, rotation_xyz
 from vc.calibration.distortion import BrownConrady, NoDistortion, TsaiRadial
 
@@ -48,11 +49,11 @@ def test_pets_round_trip_and_undistortion_everywhere(pets_camera):
 def test_town_centre_undistortion_converges_everywhere_inside_the_image():
     camera = town_centre_camera()
     pixels = pixel_grid(camera, step=8)
-    normalised, ok = camera.distortion.undistort(camera._normalised_from_pixels(pixels))
+    normalised, ok = camera.distortion.undistort(camera.normalised_from_pixels(pixels))
     assert ok.all() and np.isfinite(normalised).all()
     redistorted, ok2 = camera.distortion.distort(normalised)
     assert ok2.all()
-    assert np.abs(camera._pixels_from_normalised(redistorted) - pixels).max() < 1e-6
+    assert np.abs(camera.pixels_from_normalised(redistorted) - pixels).max() < 1e-6
 
 
 def test_points_behind_the_camera_are_flagged_not_projected():

@@ -8,10 +8,10 @@ import cv2
 import numpy as np
 import pytest
 from conftest import TOWN_CENTRE, town_centre_camera
+
 from vc.calibration.camera import Camera, look_at
 from vc.calibration.distortion import BrownConrady, TsaiRadial
 from vc.calibration.readers import read_calibration, read_opencv, read_towncentre_ci, read_tsai_xml
-
 from vc.errors import InputError
 
 TSAI_XML = """<?xml version="1.0" encoding="UTF-8"?>

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 import shapely
 from scene_factory import modified, write_scene
-from vc.scenes.loader import load_scene
-from vc.scenes.regions import plan_regions, planning_domain, region_map, sample_ground
 
 from vc.errors import InputError
+from vc.scenes.loader import load_scene
+from vc.scenes.regions import plan_regions, planning_domain, region_map, sample_ground
 
 
 @pytest.fixture(scope="module")

@@ -1,0 +1,41 @@
+"""The bundled scenes load, plan and keep their promises (the demo renders its own background)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from vc.io import read_image
+from vc.scenes.loader import BUNDLED_SCENES, load_scene
+from vc.scenes.regions import plan_regions
+
+
+def test_demo_scene_is_self_contained_and_in_view():
+    scene = load_scene(BUNDLED_SCENES / "demo" / "scene.yaml")
+    assert scene.image_path.parent == BUNDLED_SCENES / "demo"
+    camera = scene.camera
+    for blocker in scene.layout.blockers():
+        projection = camera.project(blocker.edges().reshape(-1, 3))
+        assert projection.ok.all() and camera.is_in_image(projection.uv).all(), blocker.name
+    regions = plan_regions(scene)
+    assert len(regions) >= 2
+    assert all(r.person_px[0] >= 16 for r in regions)
+
+
+@pytest.mark.slow
+def test_demo_background_is_the_render_of_its_layout():
+    from vc.render.background import render_background
+
+    scene = load_scene(BUNDLED_SCENES / "demo" / "scene.yaml")
+    rendered = render_background(scene.camera, scene.layout, scene.lighting, spp=128, seed=0)
+    shipped = read_image(scene.image_path)
+    # Same seed, same bytes on one machine; allow for LLVM code generation differing between CPUs.
+    assert np.abs(rendered.astype(int) - shipped.astype(int)).mean() < 1.0
+
+
+def test_pets_scene_loads_with_the_shared_background(pets_data):
+    scene = load_scene(BUNDLED_SCENES / "pets09_s2l1" / "scene.yaml")
+    assert scene.image_path == (pets_data / "background.png").resolve()
+    assert scene.camera.size == (768, 576)
+    names = [o.name for o in scene.layout.obstacles]
+    assert "lamp post" in names and "tripod (near)" in names
