@@ -108,8 +108,12 @@ def _camera(path: Path, spec: SceneFile) -> tuple[Camera, str, list[Path]]:
     return camera, reference.response, [calibration_path]
 
 
+def _image_path(path: Path, spec: SceneFile) -> Path:
+    return (path.parent / spec.image).resolve()
+
+
 def _resolve_image(path: Path, spec: SceneFile) -> Path:
-    candidate = (path.parent / spec.image).resolve()
+    candidate = _image_path(path, spec)
     if not candidate.is_file():
         raise InputError(path, "image", f"file not found: {candidate}")
     return candidate
@@ -125,7 +129,7 @@ def load_scene(path: str | Path, require_image: bool = True) -> Scene:
     spec = read_scene_file(path)
     camera, response, extra_files = _camera(path, spec)
     if not require_image:
-        return _scene(path, spec, (path.parent / spec.image).resolve(), camera, response, extra_files)
+        return _scene(path, spec, _image_path(path, spec), camera, response, extra_files)
     image_path = _resolve_image(path, spec)
     try:
         width, height = image_size(image_path)

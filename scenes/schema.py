@@ -71,13 +71,9 @@ class InlineCamera(StrictModel):
     def rotation(self) -> np.ndarray:
         if self.R is not None:
             return np.asarray(self.R, dtype=np.float64)
-        rvec = np.asarray(self.rvec, dtype=np.float64)
-        angle = np.linalg.norm(rvec)
-        if angle < 1e-15:
-            return np.eye(3)
-        k = rvec / angle
-        kx = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
-        return np.eye(3) + np.sin(angle) * kx + (1 - np.cos(angle)) * kx @ kx
+        import cv2  # the same Rodrigues conversion the OpenCV calibration reader uses
+
+        return cv2.Rodrigues(np.asarray(self.rvec, dtype=np.float64).reshape(3, 1))[0]
 
 
 class CalibrationRef(StrictModel):

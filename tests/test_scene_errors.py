@@ -109,3 +109,17 @@ def test_show_on_bad_scene_leaves_existing_output_untouched(tmp_path, capsys):
 def test_base_scene_is_valid(tmp_path, capsys):
     assert main(["check", str(write_scene(tmp_path, base_scene()))]) == 0
     assert "regions" in capsys.readouterr().out
+
+
+def test_inline_rvec_equals_the_rotation_matrix(tmp_path):
+    import cv2
+    import numpy as np
+
+    from vc.scenes.loader import load_scene
+
+    scene = base_scene()
+    R = np.asarray(scene["camera"]["R"])
+    rvec = cv2.Rodrigues(R)[0].ravel().tolist()
+    rvec_scene = modified(lambda s: (s["camera"].pop("R"), s["camera"].update(rvec=rvec)))
+    camera = load_scene(write_scene(tmp_path, rvec_scene)).camera
+    np.testing.assert_allclose(camera.R, R, atol=1e-9)
