@@ -78,8 +78,15 @@ def image_size(path: str | Path) -> tuple[int, int]:
     return spec.width, spec.height
 
 
-def write_image(destination: str | Path, pixels: np.ndarray) -> None:
-    """Write an (H, W, C) uint8 image (PNG, JPEG… by extension) atomically."""
+#: zlib level for PNGs written in bulk (datasets): 4x faster than OpenImageIO's default 6, files ~25% larger.
+FAST_PNG_COMPRESSION = 1
+
+
+def write_image(destination: str | Path, pixels: np.ndarray, png_compression: int | None = None) -> None:
+    """Write an (H, W, C) uint8 image (PNG, JPEG… by extension) atomically.
+
+    ``png_compression`` (0-9) overrides OpenImageIO's default zlib level for PNG files.
+    """
     pixels = np.ascontiguousarray(pixels)
     if pixels.dtype != np.uint8:
         raise TypeError(f"write_image expects uint8 pixels, got {pixels.dtype}")
@@ -92,6 +99,8 @@ def write_image(destination: str | Path, pixels: np.ndarray) -> None:
         if output is None:
             raise InputError(destination, "", f"unsupported image format ({oiio.geterror().strip()})")
         spec = oiio.ImageSpec(width, height, channels, oiio.UINT8)
+        if png_compression is not None:
+            spec.attribute("png:compressionLevel", int(png_compression))
         if not output.open(str(temporary), spec) or not output.write_image(pixels):
             message = output.geterror()
             output.close()

@@ -1,0 +1,63 @@
+"""Camera response: between the 8-bit values a camera writes and linear light.
+
+Rendering and compositing happen in linear light (DESIGN.md, "Conventions"); the background photograph is
+decoded with the scene's response and the composite encoded back with the same one. Responses accepted by the
+scene schema: ``srgb`` (IEC 61966-2-1, through colour-science), ``linear``, and a pure power law ``gamma G``.
+This is the seam for photometric calibration: a fitted curve would be one more response here.
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+
+import colour
+import numpy as np
+
+#: Linear values are quantised to this many steps before encoding through a table: 16 bits keep the sRGB
+#: curve's steep start within 0.05 of an 8-bit step, at a fraction of evaluating the curve per pixel.
+ENCODE_STEPS = 65535
+
+
+@dataclass(frozen=True)
+class Response:
+    """A camera response named as in the scene schema."""
+
+    name: str
+
+    @property
+    def gamma(self) -> float | None:
+        return float(self.name.split()[1]) if self.name.startswith("gamma") else None
+
+    def _curve_decode(self, values: np.ndarray) -> np.ndarray:
+        if self.name == "srgb":
+            return np.asarray(colour.cctf_decoding(values, function="sRGB"))
+        if self.name == "linear":
+            return values
+        return np.power(np.clip(values, 0.0, None), self.gamma)
+
+    def _curve_encode(self, values: np.ndarray) -> np.ndarray:
+        if self.name == "srgb":
+            return np.asarray(colour.cctf_encoding(values, function="sRGB"))
+        if self.name == "linear":
+            return values
+        return np.power(values, 1.0 / self.gamma)
+
+    @functools.cached_property
+    def _decode_table(self) -> np.ndarray:
+        return self._curve_decode(np.arange(256) / 255.0).astype(np.float32)
+
+    @functools.cached_property
+    def _encode_table(self) -> np.ndarray:
+        return np.round(self._curve_encode(np.arange(ENCODE_STEPS + 1) / ENCODE_STEPS) * 255.0).astype(np.uint8)
+
+    def decode(self, image: np.ndarray) -> np.ndarray:
+        """uint8 (or [0, 1] float) image -> linear float32."""
+        if image.dtype == np.uint8:
+            return self._decode_table[image]
+        return self._curve_decode(np.asarray(image, np.float64)).astype(np.float32)
+
+    def encode(self, linear: np.ndarray) -> np.ndarray:
+        """Linear image -> uint8, clipped to the sensor's range as a camera does."""
+        steps = np.clip(np.asarray(linear, np.float32), 0.0, 1.0) * np.float32(ENCODE_STEPS) + np.float32(0.5)
+        return self._encode_table[steps.astype(np.int32)]

@@ -1,0 +1,134 @@
+"""Where people stand in a sample: feet on the walkable ground around a region, never inside each other.
+
+Most people stand on the region's own ground polygon. Some are placed on purpose where detectors fail:
+
+* across the region's border (a ring of ground outside its polygon): the crop shows them, another region owns
+  them, and the network must still see them as people (DESIGN.md, "Regions": labelled in every crop);
+* just behind an obstacle as seen from the camera, so that part of the body is hidden.
+
+People cut by the image border come from the same rules: a region's crop reaches the image border wherever its
+ground does. Orientation is uniform or drawn from the scene's von Mises mixture (azimuth of the walking
+direction, from +x towards +y).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from shapely.geometry import Point
+
+from vc.calibration.camera import Camera
+from vc.scenes.layout import Layout
+from vc.scenes.schema import Priors
+
+#: Width (m) of the ring around a region's polygon where border-straddling people stand.
+BORDER_RING_M = 1.5
+#: People "behind an obstacle" stand within this distance (m) of its far side, seen from the camera.
+BEHIND_OBSTACLE_M = 1.2
+#: Nobody stands closer than this to another person (m, between feet centres): shoulders do not interpenetrate.
+MIN_SEPARATION_M = 0.6
+#: Tries per person before a crowded sample settles for fewer people.
+MAX_TRIES = 50
+#: About one person per this many square metres of region ground is the default maximum crowd (2 to 6).
+GROUND_M2_PER_PERSON = 40.0
+DEFAULT_MAX_PEOPLE = (2, 6)
+
+
+@dataclass(frozen=True)
+class PlacementMix:
+    """Shares of people placed on the region, across its border and behind obstacles (the rest)."""
+
+    border: float = 0.2
+    behind_obstacle: float = 0.15
+
+
+@dataclass(frozen=True)
+class Placement:
+    position: tuple[float, float]  # feet, metres on the ground
+    yaw_deg: float  # facing direction, from +x towards +y
+    kind: str  # "region" | "border" | "behind_obstacle"
+
+
+def default_max_people(region_ground: shapely.Geometry) -> int:
+    low, high = DEFAULT_MAX_PEOPLE
+    return int(np.clip(math.ceil(region_ground.area / GROUND_M2_PER_PERSON), low, high))
+
+
+class PlacementSampler:
+    """Samples :class:`Placement` s for one region of a scene."""
+
+    def __init__(self, camera: Camera, layout: Layout, region_ground: shapely.Geometry, priors: Priors,
+                 mix: PlacementMix = PlacementMix()) -> None:
+        self.priors, self.mix = priors, mix
+        standable = layout.standable_area()
+        self.areas = {
+            "region": region_ground.intersection(standable),
+            "border": region_ground.buffer(BORDER_RING_M).difference(region_ground).intersection(standable),
+            "behind_obstacle": self._behind_obstacles(camera, layout, region_ground.buffer(BORDER_RING_M))
+            .intersection(standable),
+        }
+        if self.areas["region"].is_empty:
+            raise ValueError("the region has no standable ground")
+        self._prepared = {kind: area for kind, area in self.areas.items() if not area.is_empty}
+        for area in self._prepared.values():
+            shapely.prepare(area)
+
+    @staticmethod
+    def _behind_obstacles(camera: Camera, layout: Layout, near: shapely.Geometry) -> shapely.Geometry:
+        """Ground just beyond each obstacle's footprint, away from the camera: where it hides people."""
+        centre = camera.center[:2]
+        pieces = []
+        for blocker in layout.blockers():
+            footprint = blocker.footprint()
+            if not footprint.intersects(near):
+                continue
+            away = np.asarray(footprint.centroid.coords[0]) - centre
+            distance = float(np.linalg.norm(away))
+            if distance < 1e-6:
+                continue
+            shift = away / distance * BEHIND_OBSTACLE_M
+            swept = shapely.union_all([shapely.affinity.translate(footprint, *(shift * s)) for s in (0.5, 1.0)])
+            pieces.append(shapely.convex_hull(shapely.union(footprint, swept)).difference(footprint))
+        return shapely.union_all(pieces).intersection(near) if pieces else shapely.Polygon()
+
+    def _kind(self, rng: np.random.Generator) -> str:
+        draw = rng.random()
+        if draw < self.mix.border and "border" in self._prepared:
+            return "border"
+        if draw < self.mix.border + self.mix.behind_obstacle and "behind_obstacle" in self._prepared:
+            return "behind_obstacle"
+        return "region"
+
+    def _point_in(self, area: shapely.Geometry, rng: np.random.Generator) -> np.ndarray | None:
+        x0, y0, x1, y1 = area.bounds
+        for _ in range(MAX_TRIES):
+            point = rng.uniform([x0, y0], [x1, y1])
+            if area.contains(Point(point)):
+                return point
+        return None
+
+    def _yaw(self, rng: np.random.Generator) -> float:
+        if self.priors.orientation == "uniform":
+            return float(rng.uniform(-180.0, 180.0))
+        weights = np.array([component.weight for component in self.priors.orientation])
+        component = self.priors.orientation[rng.choice(len(weights), p=weights / weights.sum())]
+        angle = math.radians(component.mean_deg) + (rng.vonmises(0.0, component.kappa) if component.kappa > 0
+                                                     else rng.uniform(-math.pi, math.pi))
+        return float((math.degrees(angle) + 180.0) % 360.0 - 180.0)
+
+    def sample(self, count: int, rng: np.random.Generator) -> list[Placement]:
+        """Up to ``count`` people, at least :data:`MIN_SEPARATION_M` apart (fewer if the ground is crowded)."""
+        placed: list[Placement] = []
+        for _ in range(count):
+            for _ in range(MAX_TRIES):
+                kind = self._kind(rng)
+                point = self._point_in(self._prepared[kind], rng)
+                if point is None:
+                    continue
+                if all(math.dist(point, other.position) >= MIN_SEPARATION_M for other in placed):
+                    placed.append(Placement((float(point[0]), float(point[1])), self._yaw(rng), kind))
+                    break
+        return placed
