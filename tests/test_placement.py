@@ -1,0 +1,62 @@
+"""Placement: feet on standable ground around the region, apart from each other, orientation from the prior."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import shapely
+from shapely.geometry import Point, Polygon
+
+from vc.calibration.camera import Camera, look_at
+from vc.render.placement import BORDER_RING_M, MIN_SEPARATION_M, PlacementSampler
+from vc.scenes.layout import Box, Layout
+from vc.scenes.schema import Priors, VonMises
+
+CAMERA = Camera(320, 240, np.array([[300.0, 0.0, 160.0], [0.0, 300.0, 120.0], [0.0, 0.0, 1.0]]),
+                *look_at([0.0, -12.0, 6.0], [0.0, 0.0, 0.0]))
+LAYOUT = Layout(walkable=[[[-8.0, -6.0], [8.0, -6.0], [8.0, 8.0], [-8.0, 8.0]]],
+                obstacles=[Box(type="box", center=[0.0, 0.0, 0.5], size=[1.0, 1.0, 1.0])])
+REGION = Polygon([(-4.0, -3.0), (4.0, -3.0), (4.0, 3.0), (-4.0, 3.0)])
+
+
+def test_people_stand_on_standable_ground_near_the_region_and_apart() -> None:
+    sampler = PlacementSampler(CAMERA, LAYOUT, REGION, Priors())
+    rng = np.random.default_rng(0)
+    standable = LAYOUT.standable_area()
+    near = REGION.buffer(BORDER_RING_M + 1e-6)
+    kinds = set()
+    for _ in range(200):
+        people = sampler.sample(5, rng)
+        for person in people:
+            point = Point(person.position)
+            assert standable.contains(point) and near.contains(point)
+            kinds.add(person.kind)
+        for a in range(len(people)):
+            for b in range(a + 1, len(people)):
+                assert math.dist(people[a].position, people[b].position) >= MIN_SEPARATION_M
+    assert kinds == {"region", "border", "behind_obstacle"}
+
+
+def test_behind_obstacle_means_beyond_it_as_seen_from_the_camera() -> None:
+    sampler = PlacementSampler(CAMERA, LAYOUT, REGION, Priors())
+    area = sampler.areas["behind_obstacle"]
+    assert not area.is_empty
+    # The camera is at y = -12 looking at +y: the hidden ground lies beyond the box (y > 0.5).
+    assert area.bounds[1] >= 0.5 - 1e-6
+    assert shapely.distance(area, LAYOUT.obstacles[0].footprint()) < 1e-6
+
+
+def test_orientation_follows_a_von_mises_prior() -> None:
+    priors = Priors(orientation=[VonMises(mean_deg=90.0, kappa=8.0)])
+    sampler = PlacementSampler(CAMERA, LAYOUT, REGION, priors)
+    rng = np.random.default_rng(1)
+    yaws = np.array([p.yaw_deg for _ in range(100) for p in sampler.sample(3, rng)])
+    mean = math.degrees(math.atan2(np.sin(np.radians(yaws)).mean(), np.cos(np.radians(yaws)).mean()))
+    assert abs(mean - 90.0) < 5.0 and np.abs(yaws - 90.0).max() < 120.0
+
+
+def test_same_generator_state_gives_the_same_people() -> None:
+    sampler = PlacementSampler(CAMERA, LAYOUT, REGION, Priors())
+    first = sampler.sample(4, np.random.default_rng(7))
+    assert first == sampler.sample(4, np.random.default_rng(7))

@@ -1,0 +1,30 @@
+"""Camera responses: 8-bit values survive decode -> encode, and the curves are the standard ones."""
+
+from __future__ import annotations
+
+import colour
+import numpy as np
+import pytest
+
+from vc.calibration.response import Response
+
+LEVELS = np.arange(256, dtype=np.uint8)
+
+
+@pytest.mark.parametrize("name", ["srgb", "linear"])
+def test_every_8_bit_value_round_trips_exactly(name: str) -> None:
+    response = Response(name)
+    np.testing.assert_array_equal(response.encode(response.decode(LEVELS)), LEVELS)
+
+
+def test_gamma_round_trips_within_one_level() -> None:
+    response = Response("gamma 2.2")
+    assert np.abs(response.encode(response.decode(LEVELS)).astype(int) - LEVELS).max() <= 1
+    assert response.decode(np.array([128], np.uint8))[0] == pytest.approx((128 / 255) ** 2.2, rel=1e-5)
+
+
+def test_srgb_matches_colour_science_and_clips() -> None:
+    linear = np.linspace(0.0, 1.0, 1001)
+    expected = np.round(colour.cctf_encoding(linear, function="sRGB") * 255)
+    assert np.abs(Response("srgb").encode(linear).astype(int) - expected).max() <= 1
+    np.testing.assert_array_equal(Response("srgb").encode(np.array([-1.0, 2.0, np.inf])), [0, 255, 255])
