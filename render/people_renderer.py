@@ -27,6 +27,7 @@ layer comes out in the region camera's own pixels.
 
 from __future__ import annotations
 
+import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -70,6 +71,20 @@ class Passes:
     shadow: np.ndarray  # (H, W, 3) float32
     depth: np.ndarray  # (H, W) float32
     traced_pixels: int  # pixels of the ideal image that were traced
+    timings: dict[str, float]  # seconds per step of the render (filled in as it goes)
+
+
+class _Clock:
+    """Seconds spent per named step, for the throughput benchmark and the run summary."""
+
+    def __init__(self) -> None:
+        self.laps: dict[str, float] = {}
+        self._mark = time.perf_counter()
+
+    def lap(self, name: str) -> None:
+        now = time.perf_counter()
+        self.laps[name] = self.laps.get(name, 0.0) + now - self._mark
+        self._mark = now
 
 
 def ground_shadow_points(points: np.ndarray, towards_sun: np.ndarray) -> np.ndarray:
@@ -316,7 +331,9 @@ class PeopleRenderer:
 
     def render(self, people: Sequence[PersonGeometry], seed: int) -> Passes:
         """The passes of ``people`` (at most ``max_people``) in this region's view; ``seed`` fixes the noise."""
+        clock = _Clock()
         self._place(people)
+        clock.lap("update_scene")
         ideal, spp, count = self.view.ideal, self.spp, len(people)
         shape = (ideal.height, ideal.width)
         beauty = np.zeros((*shape, 3), np.float32)
@@ -324,19 +341,24 @@ class PeopleRenderer:
         shadow = np.ones((*shape, 3), np.float32)
         depth = self.static_depth.copy()
         ys, xs = np.nonzero(self._window_mask(people)) if count else (np.zeros(0, int), np.zeros(0, int))
+        clock.lap("windows")
         if len(xs):
             traced = self._trace(xs, ys, seed)
+            clock.lap("trace")
             beauty[ys, xs] = np.stack([traced[f"radiance_{c}"] for c in "rgb"], axis=-1) / spp
             for index in range(count):
                 coverage[ys, xs, index] = traced[f"slot_{index}"] / spp
             if self.shadows:
                 shadow[ys, xs] = self._shadow_ratio(traced)
             depth[ys, xs] = traced["depth"]
+            clock.lap("layers")
         warp, nearest = self.view.warp, cv2.INTER_NEAREST
         coverage = warp(coverage) if count else np.zeros((self.camera.height, self.camera.width, 0), np.float32)
         coverage = coverage.reshape(self.camera.height, self.camera.width, count)
-        return Passes(beauty=warp(beauty), alpha=coverage.sum(axis=-1), coverage=coverage, shadow=warp(shadow),
-                      depth=warp(depth, nearest), traced_pixels=len(xs))
+        passes = Passes(beauty=warp(beauty), alpha=coverage.sum(axis=-1), coverage=coverage, shadow=warp(shadow),
+                        depth=warp(depth, nearest), traced_pixels=len(xs), timings=clock.laps)
+        clock.lap("distortion_warp")
+        return passes
 
     def _shadow_ratio(self, traced: dict[str, np.ndarray]) -> np.ndarray:
         """Irradiance with people over without, per colour, from each pixel's static-scene rays (1 if none)."""

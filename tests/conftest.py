@@ -45,3 +45,12 @@ def pixel_grid(camera: Camera, step: int = 16) -> np.ndarray:
     us = np.unique(np.r_[np.arange(0, camera.width, step), camera.width - 1]).astype(np.float64)
     vs = np.unique(np.r_[np.arange(0, camera.height, step), camera.height - 1]).astype(np.float64)
     return np.stack(np.meshgrid(us, vs), axis=-1).reshape(-1, 2)
+
+
+@pytest.fixture(scope="session")
+def body_model():
+    """anny bodies, built once per test session (a few seconds once anny's cache exists); test files that use
+    it set ``pytestmark = pytest.mark.xdist_group("anny")`` so that a single xdist worker builds it."""
+    from vc.render.bodies import BodyModel
+
+    return BodyModel()

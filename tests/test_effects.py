@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import pytest
-
 from scene_factory import base_scene, write_scene
+
 from vc.errors import InputError
 from vc.render.effects import plan_effects
 from vc.scenes.loader import load_scene

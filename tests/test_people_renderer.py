@@ -86,7 +86,8 @@ def test_depth_pass_measures_camera_z_of_the_first_surface() -> None:
 
 
 def test_second_person_and_obstacles_occlude() -> None:
-    layout = Layout(walkable=LAYOUT.walkable, obstacles=[Box(type="box", center=[0.1, -2.0, 1.0], size=[0.6, 0.4, 2.0])])
+    wall_in_front = Box(type="box", center=[0.1, -2.0, 1.0], size=[0.6, 0.4, 2.0])
+    layout = Layout(walkable=LAYOUT.walkable, obstacles=[wall_in_front])
     renderer = PeopleRenderer(IDEAL, layout, Lighting(), np.asarray(SPHERE.faces), len(SPHERE.vertices),
                               max_people=2, spp=16)
     behind_box = _sphere(np.array([0.0, 0.0, 0.5]))

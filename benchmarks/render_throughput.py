@@ -1,0 +1,136 @@
+"""Render throughput: labelled samples per second per region and spp, and where the time goes.
+
+    python benchmarks/render_throughput.py [--scene scenes/pets09_s2l1/scene.yaml] [--spp 4 16 64]
+                                           [--samples 40] [--warmup 5] [--out benchmarks/results]
+
+Each sample is what ``vc-render`` writes: people sampled and posed, rendered, composited, labelled, and the
+image and mask PNGs encoded (in memory, so disk speed does not count). One process, all cores (2 on the
+reference machine). Writes ``render_throughput.json``, ``render_throughput.md`` (table) and
+``render_throughput.png`` (samples/s per region and spp; time per step at the reference spp) to ``--out``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from collections import defaultdict
+from pathlib import Path
+
+import cv2
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from vc.io import FAST_PNG_COMPRESSION, write_json  # noqa: E402
+from vc.render.bodies import BodyModel  # noqa: E402
+from vc.render.effects import effect_on, plan_effects  # noqa: E402
+from vc.render.synthesis import RegionSynthesizer, SynthesisSettings, scene_lighting  # noqa: E402
+from vc.scenes.loader import BUNDLED_SCENES, load_scene  # noqa: E402
+from vc.scenes.regions import plan_regions  # noqa: E402
+
+REFERENCE_SPP = 16
+
+
+def _encode_pngs(sample) -> None:
+    """What the dataset writer pays per sample besides rendering: two PNG encodings at the dataset's level."""
+    parameters = [cv2.IMWRITE_PNG_COMPRESSION, FAST_PNG_COMPRESSION]
+    cv2.imencode(".png", sample.image[..., ::-1], parameters)
+    cv2.imencode(".png", sample.instances, parameters)
+
+
+def measure(synthesizer: RegionSynthesizer, samples: int, warmup: int) -> dict:
+    for index in range(warmup):
+        synthesizer.sample(10_000_000 + index)
+    steps: dict[str, float] = defaultdict(float)
+    people = 0
+    start = time.perf_counter()
+    for index in range(samples):
+        sample = synthesizer.sample(index)
+        mark = time.perf_counter()
+        _encode_pngs(sample)
+        steps["png"] += time.perf_counter() - mark
+        for step, seconds in sample.timings.items():
+            steps[step] += seconds
+        people += len(sample.annotations)
+    elapsed = time.perf_counter() - start
+    heights = []
+    for index in range(min(samples, 10)):
+        heights += [a["bbox"][3] for a in synthesizer.sample(index).annotations]
+    return {
+        "samples_per_second": round(samples / elapsed, 2),
+        "ms_per_sample": round(1000 * elapsed / samples, 1),
+        "people_per_sample": round(people / samples, 2),
+        "median_visible_height_px": round(float(np.median(heights)), 1) if heights else None,
+        "ms_per_step": {step: round(1000 * seconds / samples, 2) for step, seconds in sorted(steps.items())},
+    }
+
+
+def _plot(results: list[dict], path: Path) -> None:
+    figure, (left, right) = plt.subplots(1, 2, figsize=(12, 4.5))
+    for region in dict.fromkeys(r["region"] for r in results):
+        rows = [r for r in results if r["region"] == region]
+        left.plot([r["spp"] for r in rows], [r["samples_per_second"] for r in rows], "o-",
+                  label=f"{region} {rows[0]['input_size'][0]}x{rows[0]['input_size'][1]}")
+    left.axhline(15, color="grey", linestyle="--", linewidth=1, label="target 15/s")
+    left.set(xscale="log", xlabel="samples per pixel", ylabel="labelled samples / s", title="Render throughput")
+    left.legend()
+    reference = [r for r in results if r["spp"] == REFERENCE_SPP] or results
+    steps = ["pose", "render.update_scene", "render.windows", "render.trace", "render.layers",
+             "render.distortion_warp", "composite", "labels", "png"]
+    bottom = np.zeros(len(reference))
+    for step in steps:
+        values = np.array([r["ms_per_step"].get(step, 0.0) for r in reference])
+        right.bar([r["region"] for r in reference], values, bottom=bottom, label=step)
+        bottom += values
+    right.set(ylabel="ms per sample", title=f"Where the time goes ({reference[0]['spp']} spp)")
+    right.legend(fontsize=8)
+    figure.tight_layout()
+    figure.savefig(path, dpi=110)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--scene", type=Path, default=BUNDLED_SCENES / "pets09_s2l1" / "scene.yaml")
+    parser.add_argument("--spp", type=int, nargs="+", default=[4, 16, 64])
+    parser.add_argument("--samples", type=int, default=40)
+    parser.add_argument("--warmup", type=int, default=5)
+    parser.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
+    args = parser.parse_args()
+
+    scene = load_scene(args.scene)
+    effects = plan_effects(scene, scene_lighting(scene))
+    start = time.perf_counter()
+    bodies = BodyModel()
+    print(f"body model built in {time.perf_counter() - start:.1f} s")
+    results = []
+    for region in plan_regions(scene):
+        for spp in args.spp:
+            settings = SynthesisSettings(spp=spp, shadows=effect_on(effects, "shadows"))
+            synthesizer = RegionSynthesizer(scene, region, bodies, settings)
+            row = {"scene": scene.name, "region": region.name, "input_size": list(region.input_size), "spp": spp,
+                   **measure(synthesizer, args.samples, args.warmup)}
+            print(json.dumps(row))
+            results.append(row)
+
+    args.out.mkdir(parents=True, exist_ok=True)
+    write_json(args.out / "render_throughput.json", {"effects": [e.to_dict() for e in effects], "results": results})
+    lines = ["| region | input | spp | samples/s | ms/sample | people/sample | median person px | "
+             "pose | trace | other render | composite | labels | png |", "|" + "---|" * 13]
+    for r in results:
+        ms = r["ms_per_step"]
+        other = sum(v for k, v in ms.items() if k.startswith("render.") and k != "render.trace")
+        lines.append(f"| {r['region']} | {r['input_size'][0]}x{r['input_size'][1]} | {r['spp']} | "
+                     f"{r['samples_per_second']} | {r['ms_per_sample']} | {r['people_per_sample']} | "
+                     f"{r['median_visible_height_px']} | {ms.get('pose', 0):.1f} | "
+                     f"{ms.get('render.trace', 0):.1f} | {other:.1f} | {ms.get('composite', 0):.1f} | "
+                     f"{ms.get('labels', 0):.1f} | {ms.get('png', 0):.1f} |")
+    (args.out / "render_throughput.md").write_text("\n".join(lines) + "\n")
+    _plot(results, args.out / "render_throughput.png")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()

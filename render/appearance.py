@@ -1,0 +1,128 @@
+"""What synthetic people look like: one diffuse albedo per body part (skin, hair, clothes, shoes).
+
+A person 100-200 px tall shows its clothing as a few flat colours, so per-part albedos (linear RGB, what
+Mitsuba's ``diffuse`` BSDF takes) carry what matters to a detector: skin tones across ethnicities, hair or a
+bald head, garments mostly dark or neutral with some colour, and short sleeves or shorts that bare the
+``forearms`` and ``shins`` parts (:data:`vc.render.bodies.BODY_PARTS`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import colour
+import numpy as np
+
+from vc.render.bodies import BODY_PARTS, Phenotype
+
+# Skin colour as CIELAB (D65) of measured skin, parameterised by the Individual Typology Angle
+# ITA = atan((L* - 50) / b*) of Chardon, Cretois & Hourseau, "Skin colour typology and suntanning pathways",
+# Int. J. Cosmet. Sci. 13 (1991): very light > 55 deg > light > 41 > intermediate > 28 > tan > 10 > brown > -30 >
+# dark. Per ethnicity (african, asian, caucasian), the mean and spread of ITA follow the spectrophotometric
+# surveys summarised by Del Bino & Bernerd, "Variations in skin colour and the biological consequences of
+# ultraviolet radiation exposure", Br. J. Dermatol. 169 s3 (2013): African skins brown to dark, East Asian
+# intermediate to light, European light to very light; b* (yellowness) about 16 and a* (redness) about 11.
+# A CIELAB colour of a reflecting surface is its reflectance, so the linear sRGB of L*a*b* is the albedo.
+_ITA_MEAN_DEG = np.array([-25.0, 38.0, 47.0])
+_ITA_SD_DEG = np.array([18.0, 9.0, 9.0])
+_D65 = colour.CCS_ILLUMINANTS["CIE 1931 2 Degree Standard Observer"]["D65"]
+
+
+def _linear(*srgb_hex: str) -> np.ndarray:
+    """sRGB hex colours -> (N, 3) linear RGB (the sRGB transfer function, decoded)."""
+    encoded = np.array([[int(code[i:i + 2], 16) for i in (1, 3, 5)] for code in srgb_hex]) / 255.0
+    return np.asarray(colour.cctf_decoding(encoded, function="sRGB"), dtype=np.float64)
+
+
+# Natural hair colours (sRGB: black, dark brown, brown, light brown, dark blond, blond, auburn) and their
+# frequencies per ethnicity (african, asian, caucasian).
+_HAIR = _linear("#1b1917", "#33261c", "#5a4230", "#7f5f43", "#9c7c52", "#c4a56e", "#7a3d22")
+_HAIR_FREQUENCY = np.array([(0.85, 0.70, 0.08), (0.15, 0.27, 0.30), (0.0, 0.02, 0.25), (0.0, 0.01, 0.12),
+                            (0.0, 0.0, 0.10), (0.0, 0.0, 0.10), (0.0, 0.0, 0.05)])
+_GREY_HAIR = _linear("#5e5b57", "#8f8b86", "#c9c5bd")  # salt and pepper, grey, white
+
+
+def _palette(frequency: dict[str, int]) -> tuple[np.ndarray, np.ndarray]:
+    """Linear colours (N, 3) and their probabilities (N,) of sRGB hex colours with relative frequencies."""
+    weights = np.array(list(frequency.values()), dtype=np.float64)
+    return _linear(*frequency), weights / weights.sum()
+
+
+# Clothing colours (sRGB) and frequencies: street clothing is mostly black, grey, navy, denim, white and beige,
+# with a minority of saturated colours.
+_UPPER = _palette({
+    "#2a2a2a": 18, "#3c3c3e": 10, "#7f7f80": 8, "#b5b5b3": 5, "#e6e4df": 12, "#1f2a44": 10, "#5a7da6": 5,
+    "#c2b280": 5, "#5c4033": 4, "#4b5320": 4, "#6d1a24": 4, "#b22222": 3, "#e1ad01": 2, "#1f5fbf": 3, "#e7a1b0": 2,
+    "#2e8b57": 2, "#e07b24": 1, "#5b3a78": 2})
+_LOWER = _palette({
+    "#2c3e5c": 12, "#3b5998": 8, "#6a89b0": 6, "#2a2a2a": 25, "#3c3c3e": 12, "#1f2a44": 8, "#c2b280": 10,
+    "#5c4033": 4, "#7f7f80": 5, "#d8d0c0": 3, "#4b5320": 3, "#e6e4df": 2})
+_SHOES = _palette({
+    "#1e1e1e": 40, "#3b2a20": 12, "#e8e8e6": 20, "#6f6f6f": 10, "#1f2a44": 5, "#a0784f": 6, "#b22222": 3,
+    "#1f5fbf": 4})
+
+SHORT_SLEEVES = 0.35  # probability of bare forearms
+BARE_SHINS = 0.15  # shorts, or a skirt or dress above the knee
+DRESS = 0.25  # of bare shins on a woman: a dress, one colour from shoulders to knees
+
+
+@dataclass(frozen=True)
+class Appearance:
+    """Linear-RGB diffuse albedo of every body part of one person."""
+
+    part_albedo: dict[str, tuple[float, float, float]]
+
+    def to_dict(self) -> dict:
+        return {"part_albedo": {part: [round(c, 4) for c in rgb] for part, rgb in self.part_albedo.items()}}
+
+
+def sample_appearance(rng: np.random.Generator, phenotype: Phenotype) -> Appearance:
+    """Skin from the ethnicity mixture, hair from ethnicity and age (greying, male baldness), clothes."""
+    ethnicity = np.asarray(phenotype.ethnicity, dtype=np.float64)
+    skin = _skin_albedo(rng, ethnicity)
+
+    male, age = phenotype.gender, phenotype.age_years
+    bald = rng.random() < 0.01 + 0.5 * male * np.clip((age - 25.0) / 50.0, 0.0, 1.0)
+    greying = np.clip((age - 35.0) / 40.0, 0.0, 1.0) ** 1.5 * 0.9
+    if rng.random() < greying:
+        hair = _GREY_HAIR[int(np.clip((age - 40.0) / 15.0 + rng.random(), 0.0, 2.0))]  # whiter with age
+    else:
+        weights = _HAIR_FREQUENCY @ ethnicity
+        hair = _HAIR[rng.choice(len(_HAIR), p=weights / weights.sum())]
+    hair = _jitter(rng, hair, 0.2)
+    upper, lower, shoes = (_jitter(rng, _pick(rng, palette), 0.15) for palette in (_UPPER, _LOWER, _SHOES))
+    short_sleeves = rng.random() < SHORT_SLEEVES
+    bare_shins = rng.random() < BARE_SHINS
+    if bare_shins and rng.random() < DRESS * (1.0 - male):
+        lower = upper
+    albedo = {"skin": skin, "hair": skin if bald else hair, "upper": upper, "lower": lower, "shoes": shoes,
+              "forearms": skin if short_sleeves else upper, "shins": skin if bare_shins else lower}
+    return Appearance({part: tuple(float(c) for c in albedo[part]) for part in BODY_PARTS})
+
+
+def vertex_albedo(model_parts: np.ndarray, appearance: Appearance) -> np.ndarray:
+    """(V, 3) float32 linear albedo of each vertex, from its :data:`BODY_PARTS` label."""
+    table = np.array([appearance.part_albedo[part] for part in BODY_PARTS], dtype=np.float32)
+    return table[np.asarray(model_parts)]
+
+
+def _skin_albedo(rng: np.random.Generator, ethnicity: np.ndarray) -> np.ndarray:
+    ita = np.radians(np.clip(rng.normal(ethnicity @ _ITA_MEAN_DEG, ethnicity @ _ITA_SD_DEG), -60.0, 65.0))
+    b = np.clip(rng.normal(16.0, 3.0), 9.0, 24.0)
+    a = np.clip(rng.normal(11.0, 2.5), 5.0, 18.0)
+    lightness = np.clip(50.0 + b * np.tan(ita), 25.0, 78.0)
+    xyz = colour.Lab_to_XYZ(np.array([lightness, a, b]), _D65)
+    return np.clip(colour.XYZ_to_sRGB(xyz, apply_cctf_encoding=False), 0.01, 0.9)
+
+
+def _pick(rng: np.random.Generator, palette: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
+    colours, probabilities = palette
+    return colours[rng.choice(len(colours), p=probabilities)]
+
+
+def _jitter(rng: np.random.Generator, rgb: Sequence[float], spread: float) -> np.ndarray:
+    """The same colour lighter or darker (log-normal factor), and a little more or less saturated."""
+    rgb = np.asarray(rgb) * np.exp(rng.normal(0.0, spread))
+    grey = rgb.mean()
+    return np.clip(grey + (rgb - grey) * np.exp(rng.normal(0.0, 0.15)), 0.005, 0.85)

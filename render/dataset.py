@@ -1,0 +1,139 @@
+"""The dataset on disk: ``<out>/<region>/shard-NNNNN/{images,masks,annotations.json}`` plus ``manifest.json``.
+
+* ``images/<index>.png``: the sample as the camera would encode it (8-bit, the scene's response).
+* ``masks/<index>.png``: 8-bit instance map, 0 for nobody and k for the annotation whose ``instance_id`` is k.
+* ``annotations.json``: COCO keypoints format (pycocotools reads it) for the shard's samples. Image ids are the
+  sample indices; annotation ids are ``index * ANNOTATION_ID_STRIDE + instance_id``, unique in the region.
+  Coordinates follow the project's pixel convention (the centre of the top-left pixel is (0, 0)); beyond COCO's
+  fields each annotation has ``center``, ``foot``, ``amodal_bbox``, ``instance_id`` and the person's 3-D
+  ``attributes`` (see :mod:`vc.render.labels`).
+
+A shard is written into ``shard-NNNNN.partial/`` and renamed into place when complete, so a finished shard is
+never rewritten and a crash leaves at most one partial folder, which the next run discards and redoes. Shards
+depend only on the manifest's settings, so a resumed run yields the same bytes as an uninterrupted one.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+from collections.abc import Iterable
+from dataclasses import dataclass
+from pathlib import Path
+
+from vc.errors import InputError
+from vc.io import FAST_PNG_COMPRESSION, write_image, write_json
+from vc.keypoints import COCO_KEYPOINTS, COCO_SKELETON_1BASED
+from vc.render.synthesis import RenderedSample
+
+FORMAT_VERSION = 1
+MANIFEST = "manifest.json"
+ANNOTATIONS = "annotations.json"
+#: Annotation ids are sample index * this + instance id (a sample never holds this many people).
+ANNOTATION_ID_STRIDE = 100
+PERSON_CATEGORY = {
+    "id": 1,
+    "name": "person",
+    "supercategory": "person",
+    "keypoints": list(COCO_KEYPOINTS),
+    "skeleton": [list(pair) for pair in COCO_SKELETON_1BASED],
+}
+
+
+@dataclass(frozen=True)
+class Shard:
+    region: str
+    number: int
+    start: int  # first sample index
+    stop: int  # one past the last
+
+    @property
+    def name(self) -> str:
+        return f"shard-{self.number:05d}"
+
+    def folder(self, root: Path) -> Path:
+        return root / self.region / self.name
+
+
+def plan_shards(region: str, samples: int, shard_size: int) -> list[Shard]:
+    return [Shard(region, number, start, min(start + shard_size, samples))
+            for number, start in enumerate(range(0, samples, shard_size))]
+
+
+def is_complete(root: Path, shard: Shard) -> bool:
+    """A shard folder exists under its final name only once everything in it is written."""
+    return (shard.folder(root) / ANNOTATIONS).is_file()
+
+
+def image_name(index: int) -> str:
+    return f"{index:06d}.png"
+
+
+def coco_document(info: dict, samples: Iterable[RenderedSample]) -> dict:
+    images, annotations = [], []
+    for sample in samples:
+        height, width = sample.image.shape[:2]
+        images.append({"id": sample.index, "file_name": f"images/{image_name(sample.index)}",
+                       "mask_file": f"masks/{image_name(sample.index)}", "width": width, "height": height})
+        for annotation in sample.annotations:
+            annotations.append({"id": sample.index * ANNOTATION_ID_STRIDE + annotation["instance_id"],
+                                "image_id": sample.index, "category_id": PERSON_CATEGORY["id"], **annotation})
+    return {"info": info, "images": images, "annotations": annotations, "categories": [PERSON_CATEGORY]}
+
+
+def write_shard(root: Path, shard: Shard, samples: Iterable[RenderedSample], info: dict) -> dict:
+    """Write a shard atomically (see the module docstring); returns its counts."""
+    final = shard.folder(root)
+    partial = final.with_name(final.name + ".partial")
+    shutil.rmtree(partial, ignore_errors=True)
+    (partial / "images").mkdir(parents=True)
+    (partial / "masks").mkdir()
+    written = []
+    for sample in samples:
+        write_image(partial / "images" / image_name(sample.index), sample.image, FAST_PNG_COMPRESSION)
+        write_image(partial / "masks" / image_name(sample.index), sample.instances[..., None],
+                    FAST_PNG_COMPRESSION)
+        written.append(sample)
+    document = coco_document({**info, "shard": shard.name}, written)
+    write_json(partial / ANNOTATIONS, document)
+    os.replace(partial, final)
+    return {"samples": len(written), "people": len(document["annotations"])}
+
+
+def shard_counts(root: Path, shard: Shard) -> dict:
+    document = json.loads((shard.folder(root) / ANNOTATIONS).read_text())
+    return {"samples": len(document["images"]), "people": len(document["annotations"])}
+
+
+def read_manifest(root: Path) -> dict | None:
+    path = root / MANIFEST
+    if not path.is_file():
+        return None
+    try:
+        return json.loads(path.read_text())
+    except (OSError, json.JSONDecodeError) as error:
+        raise InputError(path, "", f"cannot read the existing dataset manifest ({error})") from None
+
+
+def check_manifest(root: Path, existing: dict | None, manifest: dict) -> None:
+    """Refuse to add to a dataset rendered with other settings: its shards would not belong together."""
+    if existing is None:
+        return
+    path = root / MANIFEST
+    for key in ("format_version", "scene_hash", "settings"):
+        if existing.get(key) != manifest.get(key):
+            raise InputError(path, key, "the output folder holds a dataset rendered with different "
+                                        f"{key.replace('_', ' ')}; choose another folder or remove it")
+    for name, region in manifest["regions"].items():
+        before = existing.get("regions", {}).get(name)
+        if before is not None and before.get("samples") != region["samples"]:
+            raise InputError(path, f"regions.{name}.samples",
+                             f"region {name} was rendered with {before.get('samples')} samples, not "
+                             f"{region['samples']}; use the same --samples or another folder")
+
+
+def write_manifest(root: Path, manifest: dict, existing: dict | None = None) -> None:
+    """Write the manifest, keeping regions an earlier run rendered and this one did not touch."""
+    regions = {**(existing or {}).get("regions", {}), **manifest["regions"]}
+    write_json(root / MANIFEST, {**manifest, "regions": dict(sorted(regions.items()))})

@@ -1,0 +1,155 @@
+"""Render a scene's dataset: plan shards, skip finished ones, render the rest with a progress bar, summarise.
+
+Resumable by construction: finished shards are never touched, a partial one is redone, and every sample is a
+pure function of the manifest's settings — so a run killed at any moment and started again with the same
+command yields the same bytes as an uninterrupted run.
+"""
+
+from __future__ import annotations
+
+import importlib.metadata
+import time
+from collections import defaultdict
+from collections.abc import Iterator
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+from tqdm import tqdm
+
+from vc import __version__
+from vc.io import write_json
+from vc.render import dataset
+from vc.render.bodies import BodyModel
+from vc.render.effects import EffectDecision
+from vc.render.synthesis import RegionSynthesizer, RenderedSample, SynthesisSettings
+from vc.scenes.loader import Scene
+from vc.scenes.regions import Region
+
+DEFAULT_SHARD_SIZE = 100
+#: Packages whose versions change the rendered bytes.
+VERSIONED_PACKAGES = ("mitsuba", "drjit", "anny", "torch", "numpy", "opencv-python-headless", "openimageio")
+
+
+@dataclass(frozen=True)
+class RenderRequest:
+    scene: Scene
+    regions: list[Region]
+    samples: int  # per region
+    settings: SynthesisSettings
+    effects: list[EffectDecision]
+    output: Path
+    shard_size: int = DEFAULT_SHARD_SIZE
+
+
+def _versions() -> dict[str, str]:
+    versions = {"visual-compiler": __version__}
+    for name in VERSIONED_PACKAGES:
+        try:
+            versions[name] = importlib.metadata.version(name)
+        except importlib.metadata.PackageNotFoundError:
+            continue
+    return versions
+
+
+def _samples(synthesizer: RegionSynthesizer, shard: dataset.Shard, timings: dict[str, float], progress: tqdm
+             ) -> Iterator[RenderedSample]:
+    for index in range(shard.start, shard.stop):
+        sample = synthesizer.sample(index)
+        for stage, seconds in sample.timings.items():
+            timings[stage] += seconds
+        progress.update(1)
+        yield sample
+
+
+def manifest(request: RenderRequest, counts: dict[str, dict] | None = None) -> dict:
+    """The dataset manifest: what the shards were rendered from and with, and (when known) what they hold."""
+    scene_camera = request.scene.camera
+    regions = {}
+    for region in request.regions:
+        entry = {**region.to_dict(), "samples": request.samples,
+                 "shards": len(dataset.plan_shards(region.name, request.samples, request.shard_size)),
+                 "camera": region.camera(scene_camera).to_dict()}
+        if counts is not None:
+            entry["counts"] = counts[region.name]
+        regions[region.name] = entry
+    return {
+        "format_version": dataset.FORMAT_VERSION,
+        "scene": request.scene.name,
+        "scene_hash": request.scene.content_hash,
+        "settings": {**asdict(request.settings), "shard_size": request.shard_size},
+        "effects": [decision.to_dict() for decision in request.effects],
+        "categories": [dataset.PERSON_CATEGORY],
+        "regions": regions,
+        "versions": _versions(),
+    }
+
+
+def render_dataset(request: RenderRequest, bodies: BodyModel | None = None, show_progress: bool = True) -> dict:
+    """Render every missing shard of ``request``; returns the run summary (also written as JSON)."""
+    root = request.output
+    existing = dataset.read_manifest(root)
+    dataset.check_manifest(root, existing, manifest(request))
+    dataset.write_manifest(root, manifest(request), existing)
+    shards = {region.name: dataset.plan_shards(region.name, request.samples, request.shard_size)
+              for region in request.regions}
+    missing = {name: [shard for shard in planned if not dataset.is_complete(root, shard)]
+               for name, planned in shards.items()}
+    to_render = sum(shard.stop - shard.start for planned in missing.values() for shard in planned)
+
+    start = time.perf_counter()
+    timings: dict[str, float] = defaultdict(float)
+    rendered: dict[str, dict] = {}
+    if to_render:
+        bodies = bodies or BodyModel()
+        timings["body_model"] = time.perf_counter() - start
+    with tqdm(total=to_render, unit="sample", disable=not show_progress, dynamic_ncols=True) as progress:
+        for region in request.regions:
+            if not missing[region.name]:
+                continue
+            region_start = time.perf_counter()
+            synthesizer = RegionSynthesizer(request.scene, region, bodies, request.settings)
+            timings["scene_setup"] += time.perf_counter() - region_start
+            samples = people = 0
+            for shard in missing[region.name]:
+                progress.set_description(f"{region.name} {shard.name}")
+
+                mark = time.perf_counter()
+                counts = dataset.write_shard(root, shard, _samples(synthesizer, shard, timings, progress), {
+                    "description": f"vc-render samples of scene {request.scene.name}, region {region.name}",
+                    "scene": request.scene.name, "scene_hash": request.scene.content_hash, "region": region.name,
+                    "format_version": dataset.FORMAT_VERSION})
+                timings["shard_total"] += time.perf_counter() - mark
+                samples += counts["samples"]
+                people += counts["people"]
+                progress.set_postfix(people=people)
+            rendered[region.name] = {"samples": samples, "people": people,
+                                     "seconds": round(time.perf_counter() - region_start, 2)}
+    elapsed = time.perf_counter() - start
+
+    counts = {name: {"samples": 0, "people": 0} for name in shards}
+    for name, planned in shards.items():
+        for shard in planned:
+            shard_counts = dataset.shard_counts(root, shard)
+            counts[name]["samples"] += shard_counts["samples"]
+            counts[name]["people"] += shard_counts["people"]
+    dataset.write_manifest(root, manifest(request, counts), existing)
+
+    sample_count = sum(entry["samples"] for entry in rendered.values())
+    stage_seconds = {stage: round(seconds, 3) for stage, seconds in timings.items()}
+    if sample_count:
+        per_sample = {"pose", "render", "composite", "labels"}
+        stage_seconds["write_and_other"] = round(timings["shard_total"] - sum(
+            timings[stage] for stage in per_sample), 3)
+    summary = {
+        "scene": request.scene.name,
+        "output": str(root),
+        "rendered_now": rendered,
+        "skipped_shards": sum(len(shards[name]) - len(missing[name]) for name in shards),
+        "dataset": counts,
+        "seconds": round(elapsed, 2),
+        "samples_per_second": round(sample_count / timings["shard_total"], 2) if sample_count else None,
+        "stage_seconds": stage_seconds,
+        "effects": [decision.to_dict() for decision in request.effects],
+    }
+    write_json(root / "render_summary.json", summary)
+    return summary

@@ -1,0 +1,144 @@
+"""One labelled training sample of one region: people sampled, posed, rendered, composited and labelled.
+
+Every sample is a pure function of (scene hash, region, sample index, seed) (DESIGN.md, "Conventions"):
+:func:`sample_rng` derives the one random generator a sample draws everything from — the number of people,
+where they stand, their bodies, clothes and gait, and the Mitsuba seed.
+
+Compositing happens in linear light: the region's crop of the background photograph is decoded with the
+camera response, dimmed by the shadow pass, covered by the premultiplied people, and encoded back with the
+same response. The crop is resized to the network input bilinearly with half-pixel centres
+(``cv2.INTER_LINEAR``), which is what an ONNX ``Resize`` (linear, ``half_pixel``) does to real frames.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import time
+import zlib
+from dataclasses import dataclass, field
+
+import cv2
+import numpy as np
+
+from vc.calibration.response import Response
+from vc.io import read_image
+from vc.render.appearance import sample_appearance, vertex_albedo
+from vc.render.bodies import BodyModel, sample_gait, sample_phenotype
+from vc.render.labels import PersonTruth, instance_map, person_annotation
+from vc.render.people_renderer import PeopleRenderer, PersonGeometry
+from vc.render.placement import PlacementSampler, default_max_people
+from vc.scenes.loader import Scene
+from vc.scenes.regions import Region
+from vc.scenes.schema import Lighting
+
+
+@dataclass(frozen=True)
+class SynthesisSettings:
+    """What shapes every sample of a region (besides the scene itself)."""
+
+    spp: int = 16
+    seed: int = 0
+    max_people: int | None = None  # per sample; None: from the region's ground area (see placement)
+    shadows: bool = True
+
+
+@dataclass
+class RenderedSample:
+    index: int
+    image: np.ndarray  # (H, W, 3) uint8, the camera's encoding
+    instances: np.ndarray  # (H, W) uint8: 0 nobody, k for the annotation whose instance_id is k
+    annotations: list[dict]  # COCO annotation fields without ids (see vc.render.labels)
+    depth: np.ndarray  # (H, W) float32 depth pass the keypoint visibility was decided from (not written out)
+    timings: dict[str, float] = field(default_factory=dict)
+
+
+def scene_lighting(scene: Scene) -> Lighting:
+    """The lighting samples are rendered under. ``lighting: auto`` uses the default sun and sky until the
+    photometric calibration estimates them from the background (the seam for that work)."""
+    return scene.lighting if isinstance(scene.lighting, Lighting) else Lighting()
+
+
+def sample_rng(scene_hash: str, region_name: str, index: int, seed: int) -> np.random.Generator:
+    """The random generator of one sample: a pure function of the scene, the region, the index and the seed."""
+    scene_key = int(hashlib.sha256(scene_hash.encode()).hexdigest()[:16], 16)
+    return np.random.default_rng(np.random.SeedSequence([seed, scene_key, zlib.crc32(region_name.encode()), index]))
+
+
+def region_background(image: np.ndarray, region: Region) -> np.ndarray:
+    """The region's crop of the full-frame image, resized to the network input (see the module docstring)."""
+    crop = region.crop
+    window = image[crop.y0:crop.y1, crop.x0:crop.x1]
+    return cv2.resize(window, region.input_size, interpolation=cv2.INTER_LINEAR)
+
+
+def yaw_rotation(yaw_deg: float) -> np.ndarray:
+    c, s = math.cos(math.radians(yaw_deg)), math.sin(math.radians(yaw_deg))
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+class RegionSynthesizer:
+    """Renders the samples of one region; build once (a Mitsuba scene and the background), call per index."""
+
+    def __init__(self, scene: Scene, region: Region, bodies: BodyModel, settings: SynthesisSettings) -> None:
+        self.scene, self.region, self.bodies, self.settings = scene, region, bodies, settings
+        self.camera = region.camera(scene.camera)
+        self.response = Response(scene.response)
+        self.background = self.response.decode(region_background(read_image(scene.image_path), region))
+        self.placements = PlacementSampler(scene.camera, scene.layout, region.ground, scene.priors)
+        self.max_people = settings.max_people if settings.max_people is not None else default_max_people(
+            region.ground)
+        self.renderer = PeopleRenderer(self.camera, scene.layout, scene_lighting(scene), bodies.faces,
+                                       bodies.vertex_count, max(self.max_people, 1), settings.spp,
+                                       shadows=settings.shadows)
+
+    def sample(self, index: int) -> RenderedSample:
+        timings: dict[str, float] = {}
+        start = time.perf_counter()
+        rng = sample_rng(self.scene.content_hash, self.region.name, index, self.settings.seed)
+        placements = self.placements.sample(int(rng.integers(0, self.max_people + 1)), rng)
+        phenotypes = [sample_phenotype(rng, tuple(self.scene.priors.height_m)) for _ in placements]
+        gaits = [sample_gait(rng) for _ in placements]
+        appearances = [sample_appearance(rng, phenotype) for phenotype in phenotypes]
+        render_seed = int(rng.integers(0, 2**32))
+        posed = self.bodies.pose(phenotypes, gaits) if placements else None
+        timings["pose"] = time.perf_counter() - start
+
+        people, truths = [], []
+        for k, placement in enumerate(placements):
+            rotation = yaw_rotation(placement.yaw_deg)
+            offset = np.array([*placement.position, 0.0])
+            vertices = (posed.vertices[k].astype(np.float64) @ rotation.T + offset).astype(np.float32)
+            keypoints = posed.keypoints[k].astype(np.float64) @ rotation.T + offset
+            people.append(PersonGeometry(vertices, vertex_albedo(self.bodies.vertex_parts, appearances[k])))
+            truths.append(PersonTruth(vertices=vertices, keypoints=keypoints, foot=offset,
+                                      stature_m=float(posed.stature_m[k]), attributes={
+                                          "position_m": [round(c, 4) for c in placement.position],
+                                          "yaw_deg": round(placement.yaw_deg, 2),
+                                          "height_m": round(float(posed.stature_m[k]), 4),
+                                          "keypoints_m": np.round(keypoints, 4).tolist(),
+                                          "placement": placement.kind,
+                                          "phenotype": phenotypes[k].to_dict(),
+                                          "gait": gaits[k].to_dict(),
+                                          "appearance": appearances[k].to_dict(),
+                                      }))
+        mark = time.perf_counter()
+        passes = self.renderer.render(people, render_seed)
+        timings["render"] = time.perf_counter() - mark
+        timings.update({f"render.{step}": seconds for step, seconds in passes.timings.items()})
+
+        mark = time.perf_counter()
+        linear = passes.beauty + (1.0 - passes.alpha)[..., None] * self.background * passes.shadow
+        image = self.response.encode(linear)
+        timings["composite"] = time.perf_counter() - mark
+
+        mark = time.perf_counter()
+        instances = instance_map(passes.coverage)
+        annotations = []
+        for k, truth in enumerate(truths):
+            annotation = person_annotation(self.camera, truth, instances == k + 1, passes.depth)
+            if annotation is not None:
+                annotation["instance_id"] = k + 1
+                annotations.append(annotation)
+        timings["labels"] = time.perf_counter() - mark
+        return RenderedSample(index, image, instances, annotations, passes.depth, timings)
