@@ -19,6 +19,7 @@ import json
 import os
 import shutil
 from collections.abc import Iterable
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -70,12 +71,22 @@ def image_name(index: int) -> str:
     return f"{index:06d}.png"
 
 
-def coco_document(info: dict, samples: Iterable[RenderedSample]) -> dict:
+@dataclass(frozen=True)
+class WrittenSample:
+    """What the annotation file needs of a sample once its pixels are on disk."""
+
+    index: int
+    width: int
+    height: int
+    annotations: list[dict]
+
+
+def coco_document(info: dict, samples: Iterable[WrittenSample]) -> dict:
     images, annotations = [], []
     for sample in samples:
-        height, width = sample.image.shape[:2]
         images.append({"id": sample.index, "file_name": f"images/{image_name(sample.index)}",
-                       "mask_file": f"masks/{image_name(sample.index)}", "width": width, "height": height})
+                       "mask_file": f"masks/{image_name(sample.index)}", "width": sample.width,
+                       "height": sample.height})
         for annotation in sample.annotations:
             annotations.append({"id": sample.index * ANNOTATION_ID_STRIDE + annotation["instance_id"],
                                 "image_id": sample.index, "category_id": PERSON_CATEGORY["id"], **annotation})
@@ -90,11 +101,18 @@ def write_shard(root: Path, shard: Shard, samples: Iterable[RenderedSample], inf
     (partial / "images").mkdir(parents=True)
     (partial / "masks").mkdir()
     written = []
-    for sample in samples:
-        write_image(partial / "images" / image_name(sample.index), sample.image, FAST_PNG_COMPRESSION)
-        write_image(partial / "masks" / image_name(sample.index), sample.instances[..., None],
-                    FAST_PNG_COMPRESSION)
-        written.append(sample)
+    # PNG encoding overlaps with rendering the next sample: zlib releases the GIL.
+    with ThreadPoolExecutor(max_workers=1) as writer:
+        pending = []
+        for sample in samples:
+            pending.append(writer.submit(write_image, partial / "images" / image_name(sample.index), sample.image,
+                                         FAST_PNG_COMPRESSION))
+            pending.append(writer.submit(write_image, partial / "masks" / image_name(sample.index),
+                                         sample.instances[..., None], FAST_PNG_COMPRESSION))
+            written.append(WrittenSample(sample.index, sample.image.shape[1], sample.image.shape[0],
+                                         sample.annotations))
+        for future in pending:
+            future.result()
     document = coco_document({**info, "shard": shard.name}, written)
     write_json(partial / ANNOTATIONS, document)
     os.replace(partial, final)

@@ -131,6 +131,7 @@ class PeopleRenderer:
         self.sky_irradiance = np.array(SKY_COLOUR) * lighting.sky_strength
         self.forward = camera.R[2]
         self.static_depth = self._static_depth()
+        self.static_depth_real = self.view.warp(self.static_depth, cv2.INTER_NEAREST)
 
     # --- set-up ---------------------------------------------------------------------------------------------
     def _parked_vertices(self) -> np.ndarray:
@@ -330,35 +331,50 @@ class PeopleRenderer:
         return values
 
     def render(self, people: Sequence[PersonGeometry], seed: int) -> Passes:
-        """The passes of ``people`` (at most ``max_people``) in this region's view; ``seed`` fixes the noise."""
+        """The passes of ``people`` (at most ``max_people``) in this region's view; ``seed`` fixes the noise.
+
+        Only the bounding box of the traced windows is filled and warped; the rest of every layer is its
+        no-people value (no radiance, no coverage, no shadow, the static depth).
+        """
         clock = _Clock()
         self._place(people)
         clock.lap("update_scene")
-        ideal, spp, count = self.view.ideal, self.spp, len(people)
-        shape = (ideal.height, ideal.width)
-        beauty = np.zeros((*shape, 3), np.float32)
-        coverage = np.zeros((*shape, count), np.float32)
-        shadow = np.ones((*shape, 3), np.float32)
-        depth = self.static_depth.copy()
+        height, width, count = self.camera.height, self.camera.width, len(people)
+        beauty = np.zeros((height, width, 3), np.float32)
+        coverage = np.zeros((height, width, count), np.float32)
+        shadow = np.ones((height, width, 3), np.float32)
+        depth = self.static_depth_real.copy()
         ys, xs = np.nonzero(self._window_mask(people)) if count else (np.zeros(0, int), np.zeros(0, int))
         clock.lap("windows")
         if len(xs):
             traced = self._trace(xs, ys, seed)
             clock.lap("trace")
-            beauty[ys, xs] = np.stack([traced[f"radiance_{c}"] for c in "rgb"], axis=-1) / spp
+            ideal = self.view.ideal
+            x0, y0 = max(xs.min() - 1, 0), max(ys.min() - 1, 0)
+            x1, y1 = min(xs.max() + 2, ideal.width), min(ys.max() + 2, ideal.height)
+            rows, columns = ys - y0, xs - x0
+            window = (y1 - y0, x1 - x0)
+            window_beauty = np.zeros((*window, 3), np.float32)
+            window_beauty[rows, columns] = np.stack([traced[f"radiance_{c}"] for c in "rgb"], axis=-1) / self.spp
+            window_coverage = np.zeros((*window, count), np.float32)
             for index in range(count):
-                coverage[ys, xs, index] = traced[f"slot_{index}"] / spp
+                window_coverage[rows, columns, index] = traced[f"slot_{index}"] / self.spp
+            window_shadow = np.ones((*window, 3), np.float32)
             if self.shadows:
-                shadow[ys, xs] = self._shadow_ratio(traced)
-            depth[ys, xs] = traced["depth"]
+                window_shadow[rows, columns] = self._shadow_ratio(traced)
+            window_depth = np.full(window, np.nan, np.float32)
+            window_depth[rows, columns] = traced["depth"]
             clock.lap("layers")
-        warp, nearest = self.view.warp, cv2.INTER_NEAREST
-        coverage = warp(coverage) if count else np.zeros((self.camera.height, self.camera.width, 0), np.float32)
-        coverage = coverage.reshape(self.camera.height, self.camera.width, count)
-        passes = Passes(beauty=warp(beauty), alpha=coverage.sum(axis=-1), coverage=coverage, shadow=warp(shadow),
-                        depth=warp(depth, nearest), traced_pixels=len(xs), timings=clock.laps)
-        clock.lap("distortion_warp")
-        return passes
+            warp = self.view.warp_window
+            for layer, window_layer, outside in ((beauty, window_beauty, 0.0), (coverage, window_coverage, 0.0),
+                                                 (shadow, window_shadow, 1.0)):
+                area, values = warp(window_layer, x0, y0, outside=outside)
+                layer[area] = values
+            area, traced_depth = warp(window_depth, x0, y0, cv2.INTER_NEAREST, outside=np.nan)
+            depth[area] = np.where(np.isnan(traced_depth), depth[area], traced_depth)
+            clock.lap("distortion_warp")
+        return Passes(beauty=beauty, alpha=coverage.sum(axis=-1), coverage=coverage, shadow=shadow, depth=depth,
+                      traced_pixels=len(xs), timings=clock.laps)
 
     def _shadow_ratio(self, traced: dict[str, np.ndarray]) -> np.ndarray:
         """Irradiance with people over without, per colour, from each pixel's static-scene rays (1 if none)."""

@@ -124,13 +124,39 @@ class IdealView:
                              f"{self.ideal.width}x{self.ideal.height}")
         if self.map_x is None or self.map_y is None:
             return image
-        # cv2.remap takes at most 4 channels; wider stacks (AOVs) are warped in groups of 4.
-        if image.ndim == 3 and image.shape[2] > 4:
-            groups = [self.warp(image[..., i:i + 4], interpolation) for i in range(0, image.shape[2], 4)]
-            return np.concatenate(groups, axis=2)
-        warped = cv2.remap(image, self.map_x, self.map_y, interpolation, borderMode=cv2.BORDER_CONSTANT,
-                           borderValue=0)
-        return warped.reshape(self.camera.height, self.camera.width, *image.shape[2:])
+        return remap(image, self.map_x, self.map_y, interpolation)
+
+    def warp_window(self, window: np.ndarray, x0: int, y0: int, interpolation: int = cv2.INTER_LINEAR,
+                    outside: float = 0.0) -> tuple[tuple[slice, slice], np.ndarray]:
+        """Warp only a window of the ideal image (its top-left pixel at ``(x0, y0)``): the real pixels that read
+        from it, as (the slices of the real image they fill, their values). Real pixels in those slices whose
+        ray falls outside the window get ``outside``. For a camera that is already ideal this is a paste.
+        """
+        height, width = window.shape[:2]
+        if self.map_x is None or self.map_y is None:
+            return (slice(y0, y0 + height), slice(x0, x0 + width)), window
+        reads_window = ((self.map_x > x0 - 1) & (self.map_x < x0 + width) & (self.map_y > y0 - 1)
+                        & (self.map_y < y0 + height))
+        rows, columns = np.nonzero(reads_window.any(axis=1))[0], np.nonzero(reads_window.any(axis=0))[0]
+        if len(rows) == 0:
+            return (slice(0, 0), slice(0, 0)), window[:0, :0]
+        area = (slice(rows[0], rows[-1] + 1), slice(columns[0], columns[-1] + 1))
+        return area, remap(window, self.map_x[area] - np.float32(x0), self.map_y[area] - np.float32(y0),
+                           interpolation, outside)
+
+
+def remap(image: np.ndarray, map_x: np.ndarray, map_y: np.ndarray, interpolation: int = cv2.INTER_LINEAR,
+          outside: float = 0.0) -> np.ndarray:
+    """``cv2.remap`` for any number of channels (OpenCV takes at most 4), ``outside`` beyond the source."""
+    if image.ndim == 3 and image.shape[2] > 4:
+        groups = [remap(image[..., i:i + 4], map_x, map_y, interpolation, outside)
+                  for i in range(0, image.shape[2], 4)]
+        return np.concatenate(groups, axis=2)
+    if image.ndim == 3 and image.shape[2] == 0:
+        return np.zeros((*map_x.shape, 0), image.dtype)
+    warped = cv2.remap(image, map_x, map_y, interpolation, borderMode=cv2.BORDER_CONSTANT,
+                       borderValue=(outside,) * 4)
+    return warped.reshape(*map_x.shape, *image.shape[2:])
 
 
 def _pixel_grid(camera: Camera) -> np.ndarray:
