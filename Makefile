@@ -36,12 +36,16 @@ test-fast: install
 	$(PY) -m pytest -q -n 2 --dist loadgroup -m "not slow"
 
 # The demo scene end to end as far as the stages go today: render its background from the layout with
-# Mitsuba, validate the scene and plan its regions, and draw the overlay.
+# Mitsuba, validate the scene and plan its regions, draw the overlay, render a small labelled dataset of
+# synthetic people (anny + Mitsuba) and a contact sheet of it.
 demo: install
 	$(VENV)/bin/vc-scene synthesize scenes/demo/scene.yaml -o $(DEMO_OUT)/background.png --spp 128
 	$(VENV)/bin/vc-scene check scenes/demo/scene.yaml --json $(DEMO_OUT)/scene-check.json
 	$(VENV)/bin/vc-scene show scenes/demo/scene.yaml -o $(DEMO_OUT)/overlay.png
-	@echo "demo: rendered background $(DEMO_OUT)/background.png, overlay $(DEMO_OUT)/overlay.png"
+	$(VENV)/bin/vc-render scenes/demo/scene.yaml -o $(DEMO_OUT)/dataset --samples 100
+	$(VENV)/bin/vc-render scenes/demo/scene.yaml --preview -o $(DEMO_OUT)/render-preview.png --samples 6
+	@echo "demo: background $(DEMO_OUT)/background.png, overlay $(DEMO_OUT)/overlay.png," \
+		"dataset $(DEMO_OUT)/dataset, samples drawn in $(DEMO_OUT)/render-preview.png"
 
 lint: install
 	$(VENV)/bin/ruff check .
