@@ -1,0 +1,139 @@
+"""Heat maps -> people (numpy only: evaluation and the appliance decode identically).
+
+1. People are the local maxima of the centre map above ``centre_threshold`` (3x3 neighbourhood), refined to
+   sub-cell precision by a parabola through each peak and its neighbours.
+2. Each keypoint is the maximum of its map weighted by a Gaussian prior around where that keypoint sits on an
+   upright person (:data:`UPRIGHT_OFFSETS`, scaled by the person's expected height): a neighbour's ankle, even
+   if nearer to this centre, loses to this person's own.
+3. The mask cells above ``mask_threshold`` go to the nearest centre (in units of expected height).
+4. The box is scene-specific: its height is the expected height of a person at that image position (the region's
+   camera knows it; ``expected_height_px``), centred on the centre peak (the point half the stature above the
+   feet), and its width spans the person's confident keypoints and mask cells.
+
+Coordinates are network-input pixels (pixel centres at integers) unless named ``*_cells``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from vc.deploy.heatmaps import CENTRE_CHANNEL, KEYPOINT_CHANNELS, MASK_CHANNEL, cells_to_input
+
+#: Where each COCO keypoint sits on an upright person, below (+) or above (-) the centre, in person heights
+#: (surveillance views of pedestrians: heads up, feet down; the prior's width absorbs gait and lean).
+UPRIGHT_OFFSETS = np.array([-0.43, -0.45, -0.45, -0.44, -0.44, -0.32, -0.32, -0.15, -0.15, 0.0, 0.0,
+                            0.02, 0.02, 0.25, 0.25, 0.46, 0.46])
+#: Fractions of a person's height: minimum box width, and the margin added around keypoints and mask.
+MIN_WIDTH_FRACTION = 0.25
+SIDE_MARGIN_FRACTION = 0.06
+
+
+@dataclass(frozen=True)
+class DecodeConfig:
+    stride: int = 4
+    centre_threshold: float = 0.3
+    keypoint_threshold: float = 0.2  # keypoints below this confidence do not shape the box
+    mask_threshold: float = 0.5
+    search_sigma: float = 0.25  # width of a keypoint's prior around its upright position, in person heights
+    default_height_px: float = 80.0  # expected height when no map of it is given
+
+
+@dataclass
+class DecodedPerson:
+    score: float
+    centre: np.ndarray  # (2,) input px
+    keypoints: np.ndarray  # (17, 3): x, y (input px), confidence
+    box: np.ndarray  # (4,) x0, y0, x1, y1 — outer edges in input px
+    mask_cells: np.ndarray  # (h, w) bool at heat-map resolution
+
+
+def _refine(heatmap: np.ndarray, row: int, column: int) -> np.ndarray:
+    """Sub-cell (x, y) of a peak: the vertex of a parabola through it and its neighbours along each axis."""
+    offsets = []
+    for axis, (index, size) in enumerate(((column, heatmap.shape[1]), (row, heatmap.shape[0]))):
+        if 0 < index < size - 1:
+            before = heatmap[row, index - 1] if axis == 0 else heatmap[index - 1, column]
+            after = heatmap[row, index + 1] if axis == 0 else heatmap[index + 1, column]
+            curvature = before - 2.0 * heatmap[row, column] + after
+            offsets.append(float(np.clip(0.5 * (before - after) / curvature, -0.5, 0.5)) if curvature < 0 else 0.0)
+        else:
+            offsets.append(0.0)
+    return np.array([column + offsets[0], row + offsets[1]])
+
+
+def find_peaks(heatmap: np.ndarray, threshold: float) -> list[tuple[float, np.ndarray]]:
+    """(value, (x, y) in cells) of the local maxima above ``threshold``, strongest first.
+
+    A peak is at least as high as its 8 neighbours and strictly higher than the 4 that come before it in
+    reading order, so a plateau of equal values yields its first cell only.
+    """
+    padded = np.pad(heatmap, 1, mode="constant", constant_values=-np.inf)
+    height, width = heatmap.shape
+
+    def neighbour(dy: int, dx: int) -> np.ndarray:
+        return padded[1 + dy:1 + dy + height, 1 + dx:1 + dx + width]
+
+    is_peak = heatmap > threshold
+    for dy, dx in ((-1, -1), (-1, 0), (-1, 1), (0, -1)):
+        is_peak &= heatmap > neighbour(dy, dx)
+    for dy, dx in ((0, 1), (1, -1), (1, 0), (1, 1)):
+        is_peak &= heatmap >= neighbour(dy, dx)
+    rows, columns = np.nonzero(is_peak)
+    order = np.argsort(-heatmap[rows, columns], kind="stable")
+    return [(float(heatmap[rows[i], columns[i]]), _refine(heatmap, rows[i], columns[i])) for i in order]
+
+
+def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
+           expected_height_px: np.ndarray | None = None) -> list[DecodedPerson]:
+    """People in one sample's heat maps (19, h, w). ``expected_height_px`` (h, w): the pixel height of a person
+    whose centre is at each cell, from the region's camera; None falls back to ``config.default_height_px``."""
+    stride = config.stride
+    _, height, width = heatmaps.shape
+    peaks = find_peaks(heatmaps[CENTRE_CHANNEL], config.centre_threshold)
+    if not peaks:
+        return []
+    rows, columns = np.indices((height, width))
+    centres_cells = np.array([centre for _, centre in peaks])
+    heights_px = np.array([
+        config.default_height_px if expected_height_px is None
+        else float(expected_height_px[int(round(y)), int(round(x))]) for x, y in centres_cells])
+    heights_cells = heights_px / stride
+
+    # Mask cells go to the nearest centre, distance measured in expected heights.
+    distance = np.hypot(columns[None] - centres_cells[:, 0, None, None], rows[None] - centres_cells[:, 1, None, None])
+    owner = np.argmin(distance / heights_cells[:, None, None], axis=0)
+    foreground = heatmaps[MASK_CHANNEL] > config.mask_threshold
+
+    people = []
+    keypoint_maps = heatmaps[KEYPOINT_CHANNELS]
+    for index, (score, centre_cells) in enumerate(peaks):
+        prior_sigma = config.search_sigma * heights_cells[index]
+        keypoints = np.zeros((keypoint_maps.shape[0], 3))
+        for k, keypoint_map in enumerate(keypoint_maps):
+            expected_row = centre_cells[1] + UPRIGHT_OFFSETS[k] * heights_cells[index]
+            prior = np.exp(-((columns - centre_cells[0]) ** 2 + (rows - expected_row) ** 2) / (2.0 * prior_sigma**2))
+            row, column = np.unravel_index(np.argmax(keypoint_map * prior), keypoint_map.shape)
+            keypoints[k, :2] = cells_to_input(_refine(keypoint_map, row, column), stride)
+            keypoints[k, 2] = keypoint_map[row, column]
+        mask_cells = foreground & (owner == index)
+        centre = cells_to_input(centre_cells, stride)
+        people.append(DecodedPerson(score=score, centre=centre, keypoints=keypoints,
+                                    box=_box(centre, heights_px[index], keypoints, mask_cells, config),
+                                    mask_cells=mask_cells))
+    return people
+
+
+def _box(centre: np.ndarray, height_px: float, keypoints: np.ndarray, mask_cells: np.ndarray,
+         config: DecodeConfig) -> np.ndarray:
+    """Expected height, centred on the centre; width from confident keypoints and mask (see module docstring)."""
+    xs = list(keypoints[keypoints[:, 2] >= config.keypoint_threshold, 0])
+    if mask_cells.any():
+        columns = np.nonzero(mask_cells.any(axis=0))[0]
+        xs += list(cells_to_input(np.array([columns[0] - 0.5, columns[-1] + 0.5]), config.stride))
+    margin = SIDE_MARGIN_FRACTION * height_px
+    half_min = MIN_WIDTH_FRACTION * height_px / 2
+    x0 = min(min(xs, default=centre[0]) - margin, centre[0] - half_min)
+    x1 = max(max(xs, default=centre[0]) + margin, centre[0] + half_min)
+    return np.array([x0, centre[1] - height_px / 2, x1, centre[1] + height_px / 2])

@@ -1,0 +1,77 @@
+"""Target encoding: a rendered sample's labels -> the heat maps ScenePoseNet learns (numpy, kept apart from the
+network, as mmpose keeps its codecs).
+
+* Centre: a Gaussian at the person's centre (the point half its stature above the feet), sigma a fixed fraction of
+  the person's full (amodal) height, so near and far people look alike relative to their size.
+* Keypoints: a Gaussian per labelled keypoint (visible or occluded; unlabelled ones get nothing), sigma a smaller
+  fraction of the height.
+* Mask: the fraction of each cell covered by people (area average of the instance mask).
+
+Several people combine by maximum (Gaussians) so that neighbours do not merge into one peak. Decoding lives in
+:mod:`vc.deploy.decode` and uses the same cell geometry (:mod:`vc.deploy.heatmaps`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from vc.deploy.heatmaps import CENTRE_CHANNEL, HEATMAP_CHANNELS, KEYPOINT_CHANNELS, MASK_CHANNEL, input_to_cells
+
+#: Gaussians are drawn out to this many sigmas (beyond, exp(-x^2/2) < 1.2e-4).
+TRUNCATE_SIGMAS = 4.25
+
+
+@dataclass(frozen=True)
+class CodecConfig:
+    stride: int = 4  # output stride of the network
+    centre_sigma: float = 0.08  # centre Gaussian sigma, as a fraction of the person's height (input px)
+    keypoint_sigma: float = 0.025  # keypoint Gaussian sigma, as a fraction of the person's height
+    min_sigma_cells: float = 0.75  # no Gaussian narrower than this many cells (tiny people stay learnable)
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+def _draw_gaussian(heatmap: np.ndarray, centre: np.ndarray, sigma: float) -> None:
+    """Max-combine a unit-peak Gaussian (cell units) into ``heatmap`` (h, w), truncated to its support."""
+    height, width = heatmap.shape
+    reach = TRUNCATE_SIGMAS * sigma
+    x0, x1 = max(int(np.floor(centre[0] - reach)), 0), min(int(np.ceil(centre[0] + reach)) + 1, width)
+    y0, y1 = max(int(np.floor(centre[1] - reach)), 0), min(int(np.ceil(centre[1] + reach)) + 1, height)
+    if x0 >= x1 or y0 >= y1:
+        return
+    xs = np.arange(x0, x1) - centre[0]
+    ys = np.arange(y0, y1) - centre[1]
+    gaussian = np.exp(-(ys[:, None] ** 2 + xs[None, :] ** 2) / (2.0 * sigma**2)).astype(np.float32)
+    np.maximum(heatmap[y0:y1, x0:x1], gaussian, out=heatmap[y0:y1, x0:x1])
+
+
+def person_height_px(annotation: dict) -> float:
+    """The person's full height in input pixels (occluded and cut-off parts included)."""
+    return float(annotation["amodal_bbox"][3])
+
+
+def encode(annotations: list[dict], instances: np.ndarray, config: CodecConfig = CodecConfig()) -> np.ndarray:
+    """Heat maps (19, H/stride, W/stride) float32 for one sample: its annotations and (H, W) instance mask."""
+    height, width = instances.shape
+    stride = config.stride
+    if height % stride or width % stride:
+        raise ValueError(f"input {width}x{height} is not a multiple of the output stride {stride}")
+    cells = (height // stride, width // stride)
+    heatmaps = np.zeros((HEATMAP_CHANNELS, *cells), np.float32)
+    for annotation in annotations:
+        size_cells = person_height_px(annotation) / stride
+        if annotation.get("center") is not None:
+            sigma = max(config.centre_sigma * size_cells, config.min_sigma_cells)
+            _draw_gaussian(heatmaps[CENTRE_CHANNEL], input_to_cells(annotation["center"], stride), sigma)
+        sigma = max(config.keypoint_sigma * size_cells, config.min_sigma_cells)
+        keypoints = np.asarray(annotation["keypoints"], np.float64).reshape(-1, 3)
+        for channel, (u, v, visibility) in zip(range(KEYPOINT_CHANNELS.start, KEYPOINT_CHANNELS.stop), keypoints,
+                                               strict=True):
+            if visibility > 0:
+                _draw_gaussian(heatmaps[channel], input_to_cells([u, v], stride), sigma)
+    covered = (instances > 0).astype(np.float32)
+    heatmaps[MASK_CHANNEL] = covered.reshape(cells[0], stride, cells[1], stride).mean(axis=(1, 3))
+    return heatmaps
