@@ -22,11 +22,14 @@ from collections.abc import Iterable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from vc.errors import InputError
 from vc.io import FAST_PNG_COMPRESSION, write_image, write_json
 from vc.keypoints import COCO_KEYPOINTS, COCO_SKELETON_1BASED
-from vc.render.synthesis import RenderedSample
+
+if TYPE_CHECKING:
+    from vc.render.synthesis import RenderedSample
 
 FORMAT_VERSION = 1
 MANIFEST = "manifest.json"

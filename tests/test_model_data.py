@@ -1,0 +1,95 @@
+"""Reading vc-render output for training: split by shard, targets from labels, clear errors on bad shards."""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from vc.deploy.heatmaps import CENTRE_CHANNEL, MASK_CHANNEL
+from vc.errors import InputError
+from vc.model.codec import CodecConfig
+from vc.model.data import Augmentation, RegionDataset, open_region
+from vc.render.effects import plan_effects
+from vc.render.job import RenderRequest, render_dataset
+from vc.render.synthesis import SynthesisSettings, scene_lighting
+from vc.scenes.loader import BUNDLED_SCENES, load_scene
+from vc.scenes.regions import plan_regions
+
+pytestmark = pytest.mark.xdist_group("anny")
+
+
+@pytest.fixture(scope="module")
+def small_dataset(tmp_path_factory, body_model) -> Path:
+    scene = load_scene(BUNDLED_SCENES / "demo" / "scene.yaml")
+    root = tmp_path_factory.mktemp("train-data")
+    effects = plan_effects(scene, scene_lighting(scene))
+    render_dataset(RenderRequest(scene=scene, regions=plan_regions(scene)[:1], samples=6,
+                                 settings=SynthesisSettings(spp=2, shadows=False), effects=effects, output=root,
+                                 shard_size=3), bodies=body_model, show_progress=False)
+    return root
+
+
+def test_the_last_shard_is_held_out(small_dataset) -> None:
+    data = open_region(small_dataset, "r0")
+    assert len(data.train) == 3 and len(data.held_out) == 3
+    assert {s.image_path.parent.parent.name for s in data.held_out} == {"shard-00001"}
+    assert data.input_size == tuple(json.loads((small_dataset / "manifest.json").read_text())["regions"]["r0"][
+        "input_size"])
+
+
+def test_items_are_images_and_their_encoded_labels(small_dataset) -> None:
+    data = open_region(small_dataset, "r0")
+    dataset = RegionDataset(data.train, CodecConfig(stride=4))
+    width, height = data.input_size
+    people = 0
+    for index in range(len(dataset)):
+        image, targets = dataset[index]
+        assert image.shape == (3, height, width) and 0.0 <= float(image.min()) and float(image.max()) <= 1.0
+        assert targets.shape == (19, height // 4, width // 4)
+        annotations = data.train[index].annotations
+        people += len(annotations)
+        centre_inside = any(a["center"] is not None and 0 <= a["center"][0] < width and 0 <= a["center"][1] < height
+                            for a in annotations)
+        assert (float(targets[CENTRE_CHANNEL].max()) > 0.5) == centre_inside
+        if annotations:
+            assert float(targets[MASK_CHANNEL].max()) > 0.0
+    assert people > 0
+
+
+def test_augmentation_is_deterministic_per_epoch_and_index(small_dataset) -> None:
+    data = open_region(small_dataset, "r0")
+    dataset = RegionDataset(data.train, CodecConfig(), Augmentation(), seed=3)
+    first, again = dataset[0][0], dataset[0][0]
+    assert np.array_equal(first.numpy(), again.numpy())
+    dataset.epoch = 1
+    assert not np.array_equal(first.numpy(), dataset[0][0].numpy())
+
+
+def _broken_copy(small_dataset: Path, tmp_path: Path) -> Path:
+    copy = tmp_path / "copy"
+    shutil.copytree(small_dataset, copy)
+    return copy
+
+
+@pytest.mark.parametrize(("damage", "message"), [
+    (lambda root: (root / "r0" / "shard-00000" / "annotations.json").write_text("{not json"), "corrupt shard"),
+    (lambda root: (root / "r0" / "shard-00000" / "annotations.json").unlink(), "shard has no annotations"),
+    (lambda root: (root / "r0" / "shard-00000" / "images" / "000001.png").unlink(), "missing from its shard"),
+    (lambda root: (root / "r0" / "shard-00000" / "annotations.json").write_text(
+        json.dumps({"images": [], "annotations": []})), "shard holds no samples"),
+    (lambda root: (root / "manifest.json").unlink(), "not a vc-render dataset"),
+])
+def test_bad_shards_are_named_in_one_clear_error(small_dataset, tmp_path, damage, message) -> None:
+    copy = _broken_copy(small_dataset, tmp_path)
+    damage(copy)
+    with pytest.raises(InputError, match=message):
+        open_region(copy, "r0")
+
+
+def test_a_region_not_in_the_dataset_is_refused(small_dataset) -> None:
+    with pytest.raises(InputError, match="region 'r7' is not in this dataset"):
+        open_region(small_dataset, "r7")
