@@ -1,0 +1,135 @@
+"""Accuracy metrics, one implementation for tests, training, benchmarks and ``vc-eval`` (DESIGN.md, "Metrics").
+
+* Detection: average precision at IoU 0.5, all-point interpolated (VOC 2010 and later): detections of all
+  images sorted by score, each greedily matched to the unmatched ground-truth box of highest IoU >= 0.5 in its
+  image; AP is the area under the precision envelope.
+* Pose: PCKh@0.5 over the keypoints of matched people that are labelled (v > 0): correct when within half a head
+  size of the truth, the head size being 1/8 of the ground-truth person height in pixels (COCO has no head
+  segment; this is the stated stand-in). Also per keypoint.
+* Segmentation: mean IoU of matched people's masks.
+
+Boxes are [x0, y0, x1, y1] (outer edges), numpy only: the appliance side may import this.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+IOU_THRESHOLD = 0.5
+PCKH_FRACTION = 0.5
+HEAD_FRACTION_OF_HEIGHT = 1.0 / 8.0
+
+
+def box_iou(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """IoU matrix (N, M) of boxes a (N, 4) and b (M, 4), [x0, y0, x1, y1]."""
+    a, b = np.asarray(a, np.float64).reshape(-1, 4), np.asarray(b, np.float64).reshape(-1, 4)
+    low = np.maximum(a[:, None, :2], b[None, :, :2])
+    high = np.minimum(a[:, None, 2:], b[None, :, 2:])
+    intersection = np.prod(np.clip(high - low, 0.0, None), axis=-1)
+    area_a = np.prod(np.clip(a[:, 2:] - a[:, :2], 0.0, None), axis=-1)
+    area_b = np.prod(np.clip(b[:, 2:] - b[:, :2], 0.0, None), axis=-1)
+    union = area_a[:, None] + area_b[None, :] - intersection
+    return np.where(union > 0, intersection / np.where(union > 0, union, 1.0), 0.0)
+
+
+@dataclass
+class ImageResult:
+    """One image's ground truth and detections."""
+
+    truth_boxes: np.ndarray  # (N, 4)
+    boxes: np.ndarray  # (M, 4)
+    scores: np.ndarray  # (M,)
+    truth_keypoints: np.ndarray | None = None  # (N, 17, 3) x, y, v
+    keypoints: np.ndarray | None = None  # (M, 17, 2+)
+    truth_masks: list[np.ndarray] | None = None  # N boolean masks
+    masks: list[np.ndarray] | None = None  # M boolean masks (same shape as the truth)
+
+
+@dataclass
+class Evaluation:
+    ap50: float
+    precision: np.ndarray  # along the ranked detections
+    recall: np.ndarray
+    scores: np.ndarray  # ranked detection scores
+    ground_truth: int  # people in the ground truth
+    pckh: float | None = None
+    pckh_per_keypoint: np.ndarray | None = None
+    mask_iou: float | None = None
+    matches: list[list[tuple[int, int]]] = field(default_factory=list)  # per image (truth, detection)
+
+    def to_dict(self) -> dict:
+        return {"ap50": round(self.ap50, 4),
+                "pckh": None if self.pckh is None else round(self.pckh, 4),
+                "pckh_per_keypoint": None if self.pckh_per_keypoint is None
+                else [round(float(v), 4) for v in self.pckh_per_keypoint],
+                "mask_iou": None if self.mask_iou is None else round(self.mask_iou, 4),
+                "detections": int(len(self.scores)),
+                "matched": int(sum(len(pairs) for pairs in self.matches)),
+                "ground_truth": self.ground_truth}
+
+
+def average_precision(precision: np.ndarray, recall: np.ndarray) -> float:
+    """All-point interpolated AP: area under the monotone envelope of the precision-recall curve."""
+    recall = np.concatenate([[0.0], recall, [1.0]])
+    precision = np.concatenate([[0.0], precision, [0.0]])
+    precision = np.maximum.accumulate(precision[::-1])[::-1]
+    steps = np.nonzero(recall[1:] != recall[:-1])[0]
+    return float(np.sum((recall[steps + 1] - recall[steps]) * precision[steps + 1]))
+
+
+def evaluate(images: list[ImageResult]) -> Evaluation:
+    ranked = sorted(((float(score), image, detection) for image, result in enumerate(images)
+                     for detection, score in enumerate(result.scores)), key=lambda item: -item[0])
+    ious = [box_iou(result.boxes, result.truth_boxes) for result in images]
+    taken = [np.zeros(len(result.truth_boxes), bool) for result in images]
+    matches: list[list[tuple[int, int]]] = [[] for _ in images]
+    hits = np.zeros(len(ranked))
+    for rank, (_, image, detection) in enumerate(ranked):
+        overlaps = np.where(taken[image], -1.0, ious[image][detection]) if ious[image].size else np.zeros(0)
+        if overlaps.size and overlaps.max() >= IOU_THRESHOLD:
+            truth = int(np.argmax(overlaps))
+            taken[image][truth] = True
+            matches[image].append((truth, detection))
+            hits[rank] = 1.0
+    total = sum(len(result.truth_boxes) for result in images)
+    true_positives = np.cumsum(hits)
+    precision = true_positives / np.arange(1, len(ranked) + 1) if ranked else np.zeros(0)
+    recall = true_positives / total if total else np.zeros(len(ranked))
+    ap = average_precision(precision, recall) if total else 0.0
+    evaluation = Evaluation(ap, precision, recall, np.array([item[0] for item in ranked]), total, matches=matches)
+    evaluation.pckh, evaluation.pckh_per_keypoint = _pckh(images, matches)
+    evaluation.mask_iou = _mask_iou(images, matches)
+    return evaluation
+
+
+def _pckh(images: list[ImageResult], matches: list[list[tuple[int, int]]]) -> tuple[float | None, np.ndarray | None]:
+    correct, labelled = None, None
+    for result, pairs in zip(images, matches, strict=True):
+        if result.truth_keypoints is None or result.keypoints is None:
+            continue
+        for truth, detection in pairs:
+            truth_keypoints = result.truth_keypoints[truth]
+            height = result.truth_boxes[truth][3] - result.truth_boxes[truth][1]
+            threshold = PCKH_FRACTION * HEAD_FRACTION_OF_HEIGHT * height
+            distance = np.linalg.norm(result.keypoints[detection][:, :2] - truth_keypoints[:, :2], axis=1)
+            present = truth_keypoints[:, 2] > 0
+            correct = (0 if correct is None else correct) + (present & (distance <= threshold))
+            labelled = (0 if labelled is None else labelled) + present
+    if labelled is None or np.sum(labelled) == 0:
+        return None, None
+    per_keypoint = np.where(labelled > 0, correct / np.maximum(labelled, 1), np.nan)
+    return float(np.sum(correct) / np.sum(labelled)), per_keypoint
+
+
+def _mask_iou(images: list[ImageResult], matches: list[list[tuple[int, int]]]) -> float | None:
+    values = []
+    for result, pairs in zip(images, matches, strict=True):
+        if result.truth_masks is None or result.masks is None:
+            continue
+        for truth, detection in pairs:
+            a, b = result.truth_masks[truth], result.masks[detection]
+            union = np.logical_or(a, b).sum()
+            values.append(np.logical_and(a, b).sum() / union if union else 1.0)
+    return float(np.mean(values)) if values else None
