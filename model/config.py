@@ -1,0 +1,78 @@
+"""Typed, JSON-serialisable ScenePoseNet configurations and the named presets (DESIGN.md, "Model: ScenePoseNet").
+
+A checkpoint and an exported bundle must be able to rebuild the exact network they were trained with, so the
+architecture is a frozen value written next to the weights (``to_dict``) and read back strictly (``from_dict``
+rejects unknown or missing fields, defaults included, instead of silently building a different network).
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, fields
+
+#: Output heat maps in this order: person centre (1), the 17 COCO keypoints in COCO order (17), person mask (1).
+HEATMAP_CHANNELS = 19
+STEM_STRIDES = (1, 2, 4)
+
+
+@dataclass(frozen=True)
+class NetworkConfig:
+    """The architecture of one ScenePoseNet; ``name`` only says which preset it came from.
+
+    The paper runs every layer at full resolution with dense 17x17 kernels; the other presets trade that for CPU
+    speed with a strided stem (heat maps come out at 1/``stem_stride`` of the input) and cheaper large kernels,
+    while keeping the receptive field larger than the biggest person a region shows.
+    """
+
+    name: str
+    stem_stride: int  # 1, 2 or 4; the output stride of the heat maps
+    width: int  # feature channels throughout the trunk
+    sb_depthwise: bool  # SB large kernels as depthwise k x k + pointwise 1x1 instead of dense k x k
+    intermediate_supervision: bool  # return every SB unit's belief maps so the loss can supervise them too
+    residual_units: int = 4  # 3x3 residual units after the 5x5 stem
+    sb_units: int = 3  # spatial-belief units (the paper's ablations use 1 to 3)
+    sb_kernel: int = 17  # odd side of the SB residual path's large kernels
+    belief_channels: int = HEATMAP_CHANNELS  # belief maps each SB unit emits through its 1x1 path
+
+    def __post_init__(self) -> None:
+        problems = []
+        if self.stem_stride not in STEM_STRIDES:
+            problems.append(f"stem_stride must be one of {STEM_STRIDES}, got {self.stem_stride}")
+        if self.width < 1 or self.belief_channels < 1 or self.sb_units < 1 or self.residual_units < 0:
+            problems.append("width, belief_channels and sb_units must be >= 1 and residual_units >= 0")
+        if self.sb_kernel < 1 or self.sb_kernel % 2 == 0:
+            problems.append(f"sb_kernel must be odd so that 'same' padding keeps maps aligned, got {self.sb_kernel}")
+        if self.intermediate_supervision and self.belief_channels != HEATMAP_CHANNELS:
+            problems.append(f"intermediate supervision compares beliefs with the {HEATMAP_CHANNELS} target heat "
+                            f"maps, so belief_channels must be {HEATMAP_CHANNELS}, got {self.belief_channels}")
+        if problems:
+            raise ValueError(f"invalid network config {self.name!r}: " + "; ".join(problems))
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, data: dict) -> NetworkConfig:
+        known = {field.name for field in fields(cls)}
+        unknown, missing = sorted(set(data) - known), sorted(known - set(data))
+        if unknown or missing:
+            raise ValueError(f"network config fields do not match: unknown {unknown}, missing {missing}")
+        return cls(**data)
+
+
+PRESETS: dict[str, NetworkConfig] = {
+    # The paper: everything at full resolution, dense 17x17 kernels (about 30 M parameters).
+    "paper": NetworkConfig("paper", stem_stride=1, width=128, sb_depthwise=False, intermediate_supervision=True),
+    # CPU default: 1/4 resolution, 64 channels, dense 9x9 (receptive field 265 px).
+    "fast": NetworkConfig("fast", stem_stride=4, width=64, sb_kernel=9, sb_depthwise=False,
+                          intermediate_supervision=True),
+    # The paper's 17x17 kernels at 1/4 resolution, made cheap by depthwise separation (receptive field 457 px).
+    "fast-dw": NetworkConfig("fast-dw", stem_stride=4, width=64, sb_depthwise=True, intermediate_supervision=True),
+}
+DEFAULT_ARCH = "fast"
+
+
+def network_config(name: str) -> NetworkConfig:
+    try:
+        return PRESETS[name]
+    except KeyError:
+        raise ValueError(f"unknown network preset {name!r}; choose one of {', '.join(PRESETS)}") from None
