@@ -9,8 +9,11 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass, fields
 
-#: Output heat maps in this order: person centre (1), the 17 COCO keypoints in COCO order (17), person mask (1).
-HEATMAP_CHANNELS = 19
+# The output heat maps' layout (centre, 17 COCO keypoints, mask) is the decoder's: one definition, in deploy.
+from vc.deploy.heatmaps import HEATMAP_CHANNELS
+
+__all__ = ["DEFAULT_ARCH", "HEATMAP_CHANNELS", "PRESETS", "STEM_STRIDES", "NetworkConfig", "network_config"]
+
 STEM_STRIDES = (1, 2, 4)
 
 
