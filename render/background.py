@@ -9,10 +9,10 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-import colour
 import numpy as np
 
 from vc.calibration.camera import Camera
+from vc.calibration.response import Response
 from vc.render.layout_scene import layout_scene_dict
 from vc.render.mitsuba_setup import mitsuba
 from vc.render.sensor import ideal_view, perspective_sensor
@@ -49,12 +49,6 @@ def render_linear(scene: mi.Scene, spp: int, seed: int, spp_per_pass: int = SPP_
     return (total / spp)[..., :3].astype(np.float32)
 
 
-def encode_srgb(linear: np.ndarray) -> np.ndarray:
-    """Linear RGB -> sRGB-encoded uint8, clipped (what a camera with an sRGB response writes)."""
-    encoded = colour.cctf_encoding(np.clip(linear, 0.0, 1.0), function="sRGB")
-    return np.round(np.asarray(encoded) * 255.0).astype(np.uint8)
-
-
 def render_background(camera: Camera, layout: Layout, lighting: Lighting, spp: int = 64, seed: int = 0
                       ) -> np.ndarray:
     """The layout under ``lighting`` as ``camera`` would photograph it: sRGB uint8 (height, width, 3).
@@ -65,4 +59,4 @@ def render_background(camera: Camera, layout: Layout, lighting: Lighting, spp: i
     scene_dict = layout_scene_dict(layout, lighting, perspective_sensor(view.ideal, spp), seed=seed)
     scene = mitsuba().load_dict(scene_dict)
     linear = render_linear(scene, spp, seed)
-    return encode_srgb(view.warp(linear))
+    return Response("srgb").encode_exact(view.warp(linear))

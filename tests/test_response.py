@@ -28,3 +28,10 @@ def test_srgb_matches_colour_science_and_clips() -> None:
     expected = np.round(colour.cctf_encoding(linear, function="sRGB") * 255)
     assert np.abs(Response("srgb").encode(linear).astype(int) - expected).max() <= 1
     np.testing.assert_array_equal(Response("srgb").encode(np.array([-1.0, 2.0, np.inf])), [0, 255, 255])
+
+
+def test_the_table_stays_within_one_level_of_the_exact_curve() -> None:
+    linear = np.random.default_rng(0).random(100_000).astype(np.float32)
+    for name in ("srgb", "gamma 2.2", "linear"):
+        response = Response(name)
+        assert np.abs(response.encode(linear).astype(int) - response.encode_exact(linear)).max() <= 1
