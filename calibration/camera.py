@@ -171,6 +171,14 @@ class Camera:
         foot_px, head_px = self.project(feet), self.project(heads)
         return np.linalg.norm(foot_px.uv - head_px.uv, axis=-1)
 
+    def person_height_at_centres(self, uv: np.ndarray, height_m: float) -> np.ndarray:
+        """Pixel height of a ``height_m`` person standing upright whose centre (half the stature above the feet)
+        is seen at ``uv`` (..., 2); NaN where no such person can stand (rays above the centre plane's horizon)."""
+        hit = self.ground_from_pixels(uv, plane_z=height_m / 2)
+        feet = hit.points.copy()
+        feet[..., 2] = 0.0
+        return np.where(hit.ok, self.person_pixel_height(feet, height_m), np.nan)
+
     def horizon_pixels(self, samples: int = 721) -> np.ndarray:
         """Pixels of the horizon (vanishing points of horizontal directions), ordered by azimuth, (M, 2).
 

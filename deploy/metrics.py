@@ -2,7 +2,9 @@
 
 * Detection: average precision at IoU 0.5, all-point interpolated (VOC 2010 and later): detections of all
   images sorted by score, each greedily matched to the unmatched ground-truth box of highest IoU >= 0.5 in its
-  image; AP is the area under the precision envelope.
+  image; AP is the area under the precision envelope. Ground truth marked ``ignore`` (people too hidden or cut
+  off to ask for, as COCO's crowd regions) is neither a miss nor a match: a detection that finds nothing else but
+  overlaps one by IoU >= 0.5 is dropped from the ranking.
 * Pose: PCKh@0.5 over the keypoints of matched people that are labelled (v > 0): correct when within half a head
   size of the truth, the head size being 1/8 of the ground-truth person height in pixels (COCO has no head
   segment; this is the stated stand-in). Also per keypoint.
@@ -45,6 +47,10 @@ class ImageResult:
     keypoints: np.ndarray | None = None  # (M, 17, 2+)
     truth_masks: list[np.ndarray] | None = None  # N boolean masks
     masks: list[np.ndarray] | None = None  # M boolean masks (same shape as the truth)
+    truth_ignore: np.ndarray | None = None  # (N,) bool: neither a miss nor a match (see the module docstring)
+
+    def ignored(self) -> np.ndarray:
+        return np.zeros(len(self.truth_boxes), bool) if self.truth_ignore is None else np.asarray(self.truth_ignore)
 
 
 @dataclass
@@ -83,22 +89,29 @@ def evaluate(images: list[ImageResult]) -> Evaluation:
     ranked = sorted(((float(score), image, detection) for image, result in enumerate(images)
                      for detection, score in enumerate(result.scores)), key=lambda item: -item[0])
     ious = [box_iou(result.boxes, result.truth_boxes) for result in images]
+    ignored = [result.ignored() for result in images]
     taken = [np.zeros(len(result.truth_boxes), bool) for result in images]
     matches: list[list[tuple[int, int]]] = [[] for _ in images]
-    hits = np.zeros(len(ranked))
-    for rank, (_, image, detection) in enumerate(ranked):
-        overlaps = np.where(taken[image], -1.0, ious[image][detection]) if ious[image].size else np.zeros(0)
-        if overlaps.size and overlaps.max() >= IOU_THRESHOLD:
-            truth = int(np.argmax(overlaps))
+    hits, kept = [], []
+    for score, image, detection in ranked:
+        overlaps = ious[image][detection] if ious[image].size else np.zeros(0)
+        open_truth = np.where(taken[image] | ignored[image], -1.0, overlaps)
+        if open_truth.size and open_truth.max() >= IOU_THRESHOLD:
+            truth = int(np.argmax(open_truth))
             taken[image][truth] = True
             matches[image].append((truth, detection))
-            hits[rank] = 1.0
-    total = sum(len(result.truth_boxes) for result in images)
+            hits.append(1.0)
+        elif overlaps.size and np.any(ignored[image] & (overlaps >= IOU_THRESHOLD)):
+            continue  # found only someone we do not ask for: no credit, no penalty
+        else:
+            hits.append(0.0)
+        kept.append(score)
+    total = int(sum(np.sum(~flags) for flags in ignored))
     true_positives = np.cumsum(hits)
-    precision = true_positives / np.arange(1, len(ranked) + 1) if ranked else np.zeros(0)
-    recall = true_positives / total if total else np.zeros(len(ranked))
+    precision = true_positives / np.arange(1, len(hits) + 1) if hits else np.zeros(0)
+    recall = true_positives / total if total else np.zeros(len(hits))
     ap = average_precision(precision, recall) if total else 0.0
-    evaluation = Evaluation(ap, precision, recall, np.array([item[0] for item in ranked]), total, matches=matches)
+    evaluation = Evaluation(ap, precision, recall, np.array(kept), total, matches=matches)
     evaluation.pckh, evaluation.pckh_per_keypoint = _pckh(images, matches)
     evaluation.mask_iou = _mask_iou(images, matches)
     return evaluation

@@ -17,7 +17,15 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from vc.deploy.heatmaps import CENTRE_CHANNEL, HEATMAP_CHANNELS, KEYPOINT_CHANNELS, MASK_CHANNEL, input_to_cells
+from vc.calibration.camera import Camera
+from vc.deploy.heatmaps import (
+    CENTRE_CHANNEL,
+    HEATMAP_CHANNELS,
+    KEYPOINT_CHANNELS,
+    MASK_CHANNEL,
+    cells_to_input,
+    input_to_cells,
+)
 
 #: Gaussians are drawn out to this many sigmas (beyond, exp(-x^2/2) < 1.2e-4).
 TRUNCATE_SIGMAS = 4.25
@@ -75,3 +83,21 @@ def encode(annotations: list[dict], instances: np.ndarray, config: CodecConfig =
     covered = (instances > 0).astype(np.float32)
     heatmaps[MASK_CHANNEL] = covered.reshape(cells[0], stride, cells[1], stride).mean(axis=(1, 3))
     return heatmaps
+
+
+def expected_height_map(camera: Camera, stride: int, height_m: float) -> np.ndarray:
+    """(h, w) float32: the input-pixel height of a ``height_m`` person whose centre lies at each heat-map cell of
+    ``camera``'s input (the decoder's scene-specific box height). Cells where no one can stand get the nearest
+    valid value along their column (their peaks are spurious anyway; the box stays finite)."""
+    cells = (camera.height // stride, camera.width // stride)
+    rows, columns = np.indices(cells)
+    centres = cells_to_input(np.stack([columns, rows], axis=-1), stride)
+    heights = camera.person_height_at_centres(centres, height_m)
+    for column in range(cells[1]):
+        valid = np.isfinite(heights[:, column])
+        if not valid.any():
+            heights[:, column] = np.nanmedian(heights) if np.isfinite(heights).any() else camera.height
+        elif not valid.all():
+            heights[~valid, column] = heights[valid, column][np.abs(np.nonzero(valid)[0][:, None]
+                                                                   - np.nonzero(~valid)[0][None]).argmin(axis=0)]
+    return heights.astype(np.float32)

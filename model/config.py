@@ -34,6 +34,8 @@ class NetworkConfig:
     residual_units: int = 4  # 3x3 residual units after the 5x5 stem
     sb_units: int = 3  # spatial-belief units (the paper's ablations use 1 to 3)
     sb_kernel: int = 17  # odd side of the SB residual path's large kernels
+    sb_reduction: int = 1  # 1: two full-width k x k convolutions (the paper); r > 1: a 1x1 -> k x k -> 1x1
+    # bottleneck whose one k x k runs at width/r channels (He et al., 2016), about 2r^2 times cheaper
     belief_channels: int = HEATMAP_CHANNELS  # belief maps each SB unit emits through its 1x1 path
 
     def __post_init__(self) -> None:
@@ -42,6 +44,8 @@ class NetworkConfig:
             problems.append(f"stem_stride must be one of {STEM_STRIDES}, got {self.stem_stride}")
         if self.width < 1 or self.belief_channels < 1 or self.sb_units < 1 or self.residual_units < 0:
             problems.append("width, belief_channels and sb_units must be >= 1 and residual_units >= 0")
+        if self.sb_reduction < 1 or self.width % self.sb_reduction:
+            problems.append(f"sb_reduction must be >= 1 and divide width {self.width}, got {self.sb_reduction}")
         if self.sb_kernel < 1 or self.sb_kernel % 2 == 0:
             problems.append(f"sb_kernel must be odd so that 'same' padding keeps maps aligned, got {self.sb_kernel}")
         if self.intermediate_supervision and self.belief_channels != HEATMAP_CHANNELS:

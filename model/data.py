@@ -3,9 +3,10 @@
 Held-out data is whole shards (the last ``held_out_fraction`` of them, at least one when there are two or more),
 so that evaluation never sees a training sample and the split is the same on every machine.
 
-Augmentation only adds what the renderer cannot vary yet (DESIGN.md): exposure and contrast (until photometric
-calibration estimates them) and sensor noise (not simulated). Geometry is never augmented: a flipped or rescaled
-sample would no longer be the scene's own perspective.
+Training draws windows of the region input (:class:`CropPolicy`); augmentation only adds what the renderer
+cannot vary yet (DESIGN.md): exposure and contrast (until photometric calibration estimates them) and sensor
+noise (not simulated). Geometry is never augmented: a flipped or rescaled sample would no longer be the scene's
+own perspective.
 """
 
 from __future__ import annotations
@@ -91,7 +92,11 @@ def open_region(root: Path, region: str, held_out_fraction: float = 0.1) -> Regi
     shards = sorted(path for path in (root / region).glob("shard-*") if path.is_dir() and "." not in path.name)
     if not shards:
         raise InputError(root / region, "", "no finished shards for this region")
-    held = max(1, round(len(shards) * held_out_fraction)) if len(shards) > 1 else 0
+    if len(shards) < 2:
+        raise InputError(root / region, "", f"{len(shards)} finished shard; training holds whole shards out for "
+                                            "evaluation, so it needs at least 2 (render more samples or a smaller "
+                                            "--shard-size)")
+    held = max(1, round(len(shards) * held_out_fraction))
     train = [s for shard in shards[:len(shards) - held] for s in _shard_samples(shard)]
     held_out = [s for shard in shards[len(shards) - held:] for s in _shard_samples(shard)]
     return RegionData(region, manifest, regions[region], train, held_out)
@@ -114,25 +119,72 @@ class Augmentation:
         return np.clip(image, 0.0, 1.0).astype(np.float32)
 
 
-class RegionDataset(Dataset):
-    """(image (3, H, W) float in [0, 1], heat maps (19, H/s, W/s)) pairs of one region's samples.
+def load_sample(sample: Sample, codec: CodecConfig) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A sample as (image (H, W, 3) float32 in [0, 1], instance map (H, W) uint8, heat-map targets)."""
+    image = read_image(sample.image_path).astype(np.float32) / 255.0
+    instances = read_image(sample.mask_path)[..., 0]
+    return image, instances, encode(sample.annotations, instances, codec)
 
-    With ``augmentation``, each epoch sees different jitter, still a pure function of (seed, epoch, index).
+
+@dataclass(frozen=True)
+class CropPolicy:
+    """Training windows cut from a region's input: the network is fully convolutional, so it learns from windows
+    and runs on the whole input; windows keep every pixel where it was (no rescaling: the scene's perspective
+    stays), and most are centred near a person so that steps are not spent on empty ground."""
+
+    size: tuple[int, int] = (256, 256)  # width, height; clipped to the region's input
+    near_person: float = 0.8  # fraction of windows centred on a person (jittered by a quarter window)
+
+    def window(self, annotations: list[dict], input_size: tuple[int, int], stride: int,
+               rng: np.random.Generator) -> tuple[int, int, int, int]:
+        """(x0, y0, width, height) in input pixels, on the stride grid so that targets crop cell for cell."""
+        (width, height), (crop_width, crop_height) = input_size, self.size
+        crop_width, crop_height = min(crop_width, width), min(crop_height, height)
+        centres = [a["center"] for a in annotations if a.get("center") is not None]
+        if centres and rng.random() < self.near_person:
+            x, y = centres[rng.integers(len(centres))]
+            x0 = x - crop_width / 2 + rng.uniform(-0.25, 0.25) * crop_width
+            y0 = y - crop_height / 2 + rng.uniform(-0.25, 0.25) * crop_height
+        else:
+            x0, y0 = rng.uniform(0, width - crop_width), rng.uniform(0, height - crop_height)
+        x0 = int(np.clip(round(x0 / stride) * stride, 0, width - crop_width))
+        y0 = int(np.clip(round(y0 / stride) * stride, 0, height - crop_height))
+        return x0, y0, crop_width, crop_height
+
+
+class TrainingStream(Dataset):
+    """Training items indexed by draw number: draw ``k`` is sample ``permutation(epoch)[k % n]`` of epoch
+    ``k // n``, cropped and jittered by a generator seeded with (seed, k).
+
+    Every item is a pure function of (seed, k), so a run resumed at step s (draws from s * batch size) sees the
+    same data as one that never stopped, and data-loader workers cannot change the result.
     """
 
-    def __init__(self, samples: list[Sample], codec: CodecConfig, augmentation: Augmentation | None = None,
+    def __init__(self, samples: list[Sample], codec: CodecConfig, input_size: tuple[int, int],
+                 crop: CropPolicy | None = CropPolicy(), augmentation: Augmentation | None = Augmentation(),
                  seed: int = 0) -> None:
-        self.samples, self.codec, self.augmentation, self.seed = samples, codec, augmentation, seed
-        self.epoch = 0
+        if not samples:
+            raise ValueError("no training samples")
+        self.samples, self.codec, self.input_size = samples, codec, input_size
+        self.crop, self.augmentation, self.seed = crop, augmentation, seed
 
     def __len__(self) -> int:
         return len(self.samples)
 
-    def __getitem__(self, index: int) -> tuple[torch.Tensor, torch.Tensor]:
-        sample = self.samples[index]
-        image = read_image(sample.image_path).astype(np.float32) / 255.0
-        instances = read_image(sample.mask_path)[..., 0]
-        targets = encode(sample.annotations, instances, self.codec)
+    def sample_index(self, draw: int) -> int:
+        epoch, position = divmod(draw, len(self.samples))
+        return int(np.random.default_rng([self.seed, epoch]).permutation(len(self.samples))[position])
+
+    def __getitem__(self, draw: int) -> tuple[torch.Tensor, torch.Tensor]:
+        sample = self.samples[self.sample_index(draw)]
+        image, _, targets = load_sample(sample, self.codec)
+        rng = np.random.default_rng([self.seed, 1 << 32, draw])  # apart from the permutations' streams
+        if self.crop is not None:
+            x0, y0, width, height = self.crop.window(sample.annotations, self.input_size, self.codec.stride, rng)
+            stride = self.codec.stride
+            image = image[y0:y0 + height, x0:x0 + width]
+            targets = targets[:, y0 // stride:(y0 + height) // stride, x0 // stride:(x0 + width) // stride]
         if self.augmentation is not None:
-            image = self.augmentation.apply(image, np.random.default_rng([self.seed, self.epoch, index]))
-        return torch.from_numpy(np.ascontiguousarray(image.transpose(2, 0, 1))), torch.from_numpy(targets)
+            image = self.augmentation.apply(image, rng)
+        return (torch.from_numpy(np.ascontiguousarray(image.transpose(2, 0, 1))),
+                torch.from_numpy(np.ascontiguousarray(targets)))

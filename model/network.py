@@ -38,12 +38,24 @@ def _conv_bn_relu(in_channels: int, out_channels: int, kernel: int, stride: int 
                          nn.BatchNorm2d(out_channels), nn.ReLU(inplace=True))
 
 
-class ResidualUnit(nn.Module):
-    """Two k x k conv-BN layers added to an identity skip (He et al., 2016).
+class _SideInputResidual(nn.Module):
+    """``relu(features + branch([features, side]))``: ``side`` holds extra maps (the previous SB unit's beliefs)
+    that the branch reads next to the features; the skip carries the features alone, so the unit keeps its
+    channel count without a projection."""
 
-    ``side_channels`` are extra maps (the previous SB unit's beliefs) that the residual path reads next to the
-    features; the skip carries the features alone, so the unit keeps ``channels`` channels without a projection.
-    """
+    branch: nn.Sequential
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.relu = nn.ReLU(inplace=True)
+
+    def forward(self, features: Tensor, side: Tensor | None = None) -> Tensor:
+        branch_input = features if side is None else torch.cat([features, side], dim=1)
+        return self.relu(features + self.branch(branch_input))
+
+
+class ResidualUnit(_SideInputResidual):
+    """Two k x k conv-BN layers added to an identity skip (He et al., 2016)."""
 
     def __init__(self, channels: int, kernel: int, depthwise: bool = False, side_channels: int = 0) -> None:
         super().__init__()
@@ -51,11 +63,20 @@ class ResidualUnit(nn.Module):
             _spatial_conv(channels + side_channels, channels, kernel, depthwise), nn.BatchNorm2d(channels),
             nn.ReLU(inplace=True),
             _spatial_conv(channels, channels, kernel, depthwise), nn.BatchNorm2d(channels))
-        self.relu = nn.ReLU(inplace=True)
 
-    def forward(self, features: Tensor, side: Tensor | None = None) -> Tensor:
-        branch_input = features if side is None else torch.cat([features, side], dim=1)
-        return self.relu(features + self.branch(branch_input))
+
+class BottleneckUnit(_SideInputResidual):
+    """A residual unit whose branch is 1x1 (to ``channels / reduction``) -> k x k -> 1x1 (back), each followed by
+    batch norm (He et al., 2016): the large kernel sees the same window at a fraction of the dense cost."""
+
+    def __init__(self, channels: int, kernel: int, reduction: int, depthwise: bool = False,
+                 side_channels: int = 0) -> None:
+        super().__init__()
+        inner = channels // reduction
+        self.branch = nn.Sequential(
+            nn.Conv2d(channels + side_channels, inner, 1, bias=False), nn.BatchNorm2d(inner), nn.ReLU(inplace=True),
+            _spatial_conv(inner, inner, kernel, depthwise), nn.BatchNorm2d(inner), nn.ReLU(inplace=True),
+            nn.Conv2d(inner, channels, 1, bias=False), nn.BatchNorm2d(channels))
 
 
 class SpatialBeliefUnit(nn.Module):
@@ -64,7 +85,11 @@ class SpatialBeliefUnit(nn.Module):
     def __init__(self, config: NetworkConfig, first: bool) -> None:
         super().__init__()
         side_channels = 0 if first else config.belief_channels
-        self.residual = ResidualUnit(config.width, config.sb_kernel, config.sb_depthwise, side_channels)
+        if config.sb_reduction == 1:
+            self.residual = ResidualUnit(config.width, config.sb_kernel, config.sb_depthwise, side_channels)
+        else:
+            self.residual = BottleneckUnit(config.width, config.sb_kernel, config.sb_reduction, config.sb_depthwise,
+                                           side_channels)
         self.belief = nn.Sequential(nn.Conv2d(config.width, config.width, 1, bias=False),
                                     nn.BatchNorm2d(config.width), nn.ReLU(inplace=True),
                                     nn.Conv2d(config.width, config.belief_channels, 1))
@@ -115,7 +140,7 @@ class ScenePoseNet(nn.Module):
                 nn.init.ones_(module.weight)
                 nn.init.zeros_(module.bias)
         for module in self.modules():
-            if isinstance(module, ResidualUnit):
+            if isinstance(module, _SideInputResidual):
                 nn.init.zeros_(module.branch[-1].weight)
         for output in [self.head[-1], *(unit.belief[-1] for unit in self.sb_units)]:
             nn.init.normal_(output.weight, std=OUTPUT_INIT_STD)

@@ -70,3 +70,16 @@ def test_no_detections_and_no_truth() -> None:
     empty = np.zeros((0, 4))
     assert evaluate([ImageResult(TRUTH, empty, np.zeros(0))]).ap50 == 0.0
     assert evaluate([ImageResult(empty, empty, np.zeros(0))]).ap50 == 0.0
+
+
+def test_ignored_truth_is_neither_a_miss_nor_a_match() -> None:
+    truth = np.array([[0, 0, 10, 20], [50, 0, 60, 20]], float)
+    found_both = ImageResult(truth_boxes=truth, boxes=truth + 0.5, scores=np.array([0.9, 0.8]),
+                             truth_ignore=np.array([False, True]))
+    evaluation = evaluate([found_both])
+    assert evaluation.ap50 == 1.0 and evaluation.ground_truth == 1
+    assert len(evaluation.scores) == 1 and evaluation.matches == [[(0, 0)]]
+    # Missing the ignored person costs nothing; a detection far from everyone is still a false positive.
+    stray = ImageResult(truth_boxes=truth, boxes=np.array([[0, 0, 10, 20], [100, 0, 110, 20]], float),
+                        scores=np.array([0.5, 0.9]), truth_ignore=np.array([False, True]))
+    assert evaluate([stray]).ap50 == pytest.approx(0.5)

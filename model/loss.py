@@ -1,0 +1,58 @@
+"""The paper's loss: alpha * MSE(detection) + beta * mean MSE(pose) + gamma * MSE(segmentation).
+
+Each term is a mean squared error over its heat-map pixels (the pose term the mean over the 17 keypoint maps).
+With intermediate supervision every SB unit's belief maps are held to the same targets and their losses added
+(as in convolutional pose machines), so early units learn usable beliefs instead of whatever helps the last one.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import torch
+from torch import Tensor
+
+from vc.deploy.heatmaps import CENTRE_CHANNEL, KEYPOINT_CHANNELS, MASK_CHANNEL
+
+
+@dataclass(frozen=True)
+class LossWeights:
+    """alpha, beta, gamma of the paper's loss.
+
+    A keypoint Gaussian covers about (0.025/0.08)^2 = 1/10 of a centre Gaussian's area (model.codec), so its
+    per-pixel MSE is about ten times smaller; ``pose`` makes up for that so that pose is not learned last.
+    """
+
+    detection: float = 1.0
+    pose: float = 10.0
+    segmentation: float = 1.0
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+def heatmap_terms(prediction: Tensor, targets: Tensor) -> dict[str, Tensor]:
+    """The three MSE terms of one prediction (B, 19, h, w) against its targets (same shape), unweighted."""
+    if prediction.shape != targets.shape:
+        raise ValueError(f"prediction {tuple(prediction.shape)} and targets {tuple(targets.shape)} differ in shape")
+    squared = (prediction - targets).square()
+    return {"detection": squared[:, CENTRE_CHANNEL].mean(),
+            "pose": squared[:, KEYPOINT_CHANNELS].mean(),  # = mean over keypoints of each map's MSE
+            "segmentation": squared[:, MASK_CHANNEL].mean()}
+
+
+def scene_pose_loss(outputs: dict[str, Tensor | list[Tensor]], targets: Tensor,
+                    weights: LossWeights = LossWeights()) -> tuple[Tensor, dict[str, float]]:
+    """The weighted loss of the final heat maps plus, with intermediate supervision, of every belief stage.
+
+    Returns the scalar to minimise and the final heat maps' unweighted terms (for logging).
+    """
+    total = torch.zeros((), dtype=targets.dtype, device=targets.device)
+    final_terms: dict[str, Tensor] = {}
+    for stage, prediction in enumerate([*outputs["beliefs"], outputs["heatmaps"]]):
+        terms = heatmap_terms(prediction, targets)
+        total = total + (weights.detection * terms["detection"] + weights.pose * terms["pose"]
+                         + weights.segmentation * terms["segmentation"])
+        if stage == len(outputs["beliefs"]):
+            final_terms = terms
+    return total, {name: float(value.detach()) for name, value in final_terms.items()}

@@ -1,0 +1,289 @@
+"""Training one region's ScenePoseNet: the loop, checkpoints that can be resumed byte for byte, and the held-out
+evaluation written as ``metrics.json`` material and a precision-recall curve.
+
+A run folder holds ``checkpoints/<region>.pt`` (weights, optimiser, schedule, step, loss history, the full
+training config, the network config and the scene and region it belongs to) and ``<region>/`` (the
+precision-recall and loss curves). Checkpoints are written through a temporary name, so an interrupted run
+resumes from the last complete one; every batch is a pure function of (seed, step) (:class:`TrainingStream`), so
+the resumed run ends with the same weights as one that never stopped.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+from dataclasses import asdict, dataclass, field, fields
+from pathlib import Path
+
+import numpy as np
+import torch
+from torch.utils.data import DataLoader
+from tqdm import tqdm
+
+from vc.calibration.camera import camera_from_dict
+from vc.deploy.decode import DecodeConfig
+from vc.errors import InputError
+from vc.io import atomic_path
+from vc.model.codec import CodecConfig, expected_height_map
+from vc.model.config import DEFAULT_ARCH, NetworkConfig, network_config
+from vc.model.data import Augmentation, CropPolicy, RegionData, TrainingStream
+from vc.model.evaluate import RegionEvaluation, evaluate_network
+from vc.model.loss import LossWeights, scene_pose_loss
+from vc.model.network import ScenePoseNet
+from vc.plots import plot_precision_recall, plot_training_curve
+
+CHECKPOINT_FORMAT = 1
+CHECKPOINT_KIND = "vc-train checkpoint"
+#: Loss values kept for the training curve: one per this many steps (mean of the steps in between).
+HISTORY_EVERY = 10
+
+
+@dataclass(frozen=True)
+class TrainConfig:
+    """Everything that decides a trained network besides the data: two runs with equal configs (and data) give
+    the same weights."""
+
+    network: NetworkConfig = field(default_factory=lambda: network_config(DEFAULT_ARCH))
+    codec: CodecConfig = CodecConfig()
+    loss: LossWeights = LossWeights()
+    crop: CropPolicy = CropPolicy()
+    augmentation: Augmentation = Augmentation()
+    decode: DecodeConfig = DecodeConfig()
+    steps: int = 3000
+    batch_size: int = 16
+    learning_rate: float = 2e-3
+    weight_decay: float = 1e-4
+    warmup_steps: int = 100
+    seed: int = 0
+    checkpoint_every: int = 200
+    held_out_fraction: float = 0.1
+
+    def __post_init__(self) -> None:
+        if self.codec.stride != self.network.stem_stride or self.decode.stride != self.network.stem_stride:
+            raise ValueError(f"codec stride {self.codec.stride} and decode stride {self.decode.stride} must equal "
+                             f"the network's output stride {self.network.stem_stride}")
+        if self.steps < 1 or self.batch_size < 1:
+            raise ValueError("steps and batch_size must be at least 1")
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, data: dict) -> TrainConfig:
+        nested = {"network": NetworkConfig.from_dict, "codec": lambda d: CodecConfig(**d),
+                  "loss": lambda d: LossWeights(**d), "augmentation": lambda d: Augmentation(**d),
+                  "crop": lambda d: CropPolicy(size=tuple(d["size"]), near_person=d["near_person"]),
+                  "decode": lambda d: DecodeConfig(**d)}
+        known = {f.name for f in fields(cls)}
+        if set(data) != known:
+            raise ValueError(f"training config fields do not match: unknown {sorted(set(data) - known)}, "
+                             f"missing {sorted(known - set(data))}")
+        return cls(**{key: nested[key](value) if key in nested else value for key, value in data.items()})
+
+
+def for_network(network: NetworkConfig, **overrides) -> TrainConfig:
+    """A training config whose codec and decoder use ``network``'s output stride."""
+    stride = network.stem_stride
+    return TrainConfig(network=network, codec=CodecConfig(stride=stride), decode=DecodeConfig(stride=stride),
+                       **overrides)
+
+
+def select_device() -> torch.device:
+    """CUDA when torch sees a GPU; otherwise the CPU with one thread per core."""
+    if torch.cuda.is_available():
+        return torch.device("cuda")
+    torch.set_num_threads(os.cpu_count() or 1)
+    return torch.device("cpu")
+
+
+def learning_rate_factor(step: int, config: TrainConfig) -> float:
+    """Linear warm-up, then a cosine decay to zero at the last step."""
+    if step < config.warmup_steps:
+        return (step + 1) / config.warmup_steps
+    progress = (step - config.warmup_steps) / max(config.steps - config.warmup_steps, 1)
+    return 0.5 * (1.0 + math.cos(math.pi * min(progress, 1.0)))
+
+
+def reference_height_m(data: RegionData) -> float:
+    """The median stature of the region's training people: the height the decoder's boxes assume."""
+    heights = [a["attributes"]["height_m"] for sample in data.train for a in sample.annotations]
+    return float(np.median(heights)) if heights else 1.72
+
+
+@dataclass
+class Checkpoint:
+    path: Path
+    content: dict
+
+    @property
+    def step(self) -> int:
+        return int(self.content["step"])
+
+
+def checkpoint_path(run: Path, region: str) -> Path:
+    return run / "checkpoints" / f"{region}.pt"
+
+
+def load_checkpoint(path: Path, scene_hash: str | None = None, region: str | None = None) -> Checkpoint:
+    """Read a checkpoint and check that it belongs to ``scene_hash`` and ``region`` (when given)."""
+    try:
+        content = torch.load(path, map_location="cpu", weights_only=False)
+    except FileNotFoundError:
+        raise InputError(path, "", "checkpoint not found") from None
+    except Exception as error:  # torch raises many types for a damaged file
+        raise InputError(path, "", f"not a readable checkpoint ({type(error).__name__}: {error})") from None
+    if not isinstance(content, dict) or content.get("kind") != CHECKPOINT_KIND:
+        raise InputError(path, "kind", f"not a {CHECKPOINT_KIND}")
+    if content.get("format_version") != CHECKPOINT_FORMAT:
+        raise InputError(path, "format_version", f"unsupported checkpoint format {content.get('format_version')!r} "
+                                                 f"(this version reads {CHECKPOINT_FORMAT})")
+    if scene_hash is not None and content["scene_hash"] != scene_hash:
+        raise InputError(path, "scene_hash", f"checkpoint belongs to scene {content['scene']!r} "
+                                             f"({content['scene_hash'][:12]}…), not to this dataset's scene "
+                                             f"({scene_hash[:12]}…); train into a new run folder")
+    if region is not None and content["region"] != region:
+        raise InputError(path, "region", f"checkpoint is for region {content['region']!r}, not {region!r}")
+    return Checkpoint(path, content)
+
+
+def _differences(old: dict, new: dict, prefix: str = "") -> list[str]:
+    changes = []
+    for key in sorted(set(old) | set(new)):
+        a, b = old.get(key), new.get(key)
+        if isinstance(a, dict) and isinstance(b, dict):
+            changes += _differences(a, b, f"{prefix}{key}.")
+        elif a != b and not (isinstance(a, list | tuple) and isinstance(b, list | tuple) and list(a) == list(b)):
+            changes.append(f"{prefix}{key} {a!r} -> {b!r}")
+    return changes
+
+
+@dataclass
+class RegionResult:
+    region: str
+    evaluation: RegionEvaluation
+    steps: int
+    train_seconds: float
+    images_per_second: float
+    final_loss: float
+    parameters: int
+    receptive_field: int
+    reference_height_m: float
+
+    def to_dict(self) -> dict:
+        return {**self.evaluation.evaluation.to_dict(), "steps": self.steps,
+                "train_seconds": round(self.train_seconds, 1),
+                "train_images_per_second": round(self.images_per_second, 2), "final_loss": self.final_loss,
+                "parameters": self.parameters, "receptive_field_px": self.receptive_field,
+                "reference_height_m": round(self.reference_height_m, 4)}
+
+
+class RegionTrainer:
+    """Trains, checkpoints and evaluates one region's network in ``run``."""
+
+    def __init__(self, data: RegionData, config: TrainConfig, run: Path, dataset: Path,
+                 device: torch.device | None = None, workers: int = 1, show_progress: bool = True) -> None:
+        self.data, self.config, self.run, self.dataset = data, config, run, dataset
+        self.device = device or select_device()
+        self.workers, self.show_progress = workers, show_progress
+        self.path = checkpoint_path(run, data.name)
+        torch.manual_seed(config.seed)
+        self.net = ScenePoseNet(config.network).to(self.device)
+        self.optimizer = torch.optim.AdamW(self.net.parameters(), lr=config.learning_rate,
+                                           weight_decay=config.weight_decay)
+        self.schedule = torch.optim.lr_scheduler.LambdaLR(self.optimizer,
+                                                          lambda step: learning_rate_factor(step, config))
+        self.step, self.history, self.train_seconds = 0, {"step": [], "loss": []}, 0.0
+        self.reference_height_m = reference_height_m(data)
+        if self.path.exists():
+            self._resume(load_checkpoint(self.path, data.manifest["scene_hash"], data.name))
+
+    def _resume(self, checkpoint: Checkpoint) -> None:
+        changes = _differences(checkpoint.content["train_config"], self.config.to_dict())
+        if changes:
+            raise InputError(checkpoint.path, "train_config", "this run was started with other settings ("
+                             + "; ".join(changes) + "); resume with the same options or use a new run folder")
+        self.net.load_state_dict(checkpoint.content["model"])
+        self.optimizer.load_state_dict(checkpoint.content["optimizer"])
+        self.schedule.load_state_dict(checkpoint.content["schedule"])
+        self.step, self.history = checkpoint.step, checkpoint.content["history"]
+        self.train_seconds = checkpoint.content["train_seconds"]
+
+    def _save(self) -> None:
+        content = {
+            "kind": CHECKPOINT_KIND, "format_version": CHECKPOINT_FORMAT,
+            "scene": self.data.manifest["scene"], "scene_hash": self.data.manifest["scene_hash"],
+            "region": self.data.name, "region_entry": self.data.region, "dataset": str(self.dataset),
+            "dataset_settings": self.data.manifest["settings"], "train_config": self.config.to_dict(),
+            "reference_height_m": self.reference_height_m, "step": self.step, "history": self.history,
+            "train_seconds": self.train_seconds, "versions": {"torch": torch.__version__},
+            "model": self.net.state_dict(), "optimizer": self.optimizer.state_dict(),
+            "schedule": self.schedule.state_dict(),
+        }
+        with atomic_path(self.path) as temporary:
+            torch.save(content, temporary)
+
+    def _loader(self, last: int) -> DataLoader:
+        stream = TrainingStream(self.data.train, self.config.codec, self.data.input_size, self.config.crop,
+                                self.config.augmentation, self.config.seed)
+        batch = self.config.batch_size
+        draws = range(self.step * batch, last * batch)
+        return DataLoader(stream, batch_size=batch, sampler=draws, num_workers=self.workers,
+                          persistent_workers=False, prefetch_factor=4 if self.workers else None)
+
+    def train(self, until: int | None = None) -> None:
+        """Run the remaining steps (or up to step ``until``), checkpointing every ``checkpoint_every`` steps and
+        at the end."""
+        last = self.config.steps if until is None else min(until, self.config.steps)
+        if self.step >= last:
+            return
+        self.net.train()
+        window: list[float] = []
+        started, first_step = time.perf_counter(), self.step
+        with tqdm(total=self.config.steps, initial=self.step, desc=f"train {self.data.name}", unit="step",
+                  disable=not self.show_progress, dynamic_ncols=True) as bar:
+            for images, targets in self._loader(last):
+                images, targets = images.to(self.device), targets.to(self.device)
+                loss, _ = scene_pose_loss(self.net(images), targets, self.config.loss)
+                if not torch.isfinite(loss):
+                    raise FloatingPointError(f"training loss became {float(loss)} at step {self.step}")
+                self.optimizer.zero_grad(set_to_none=True)
+                loss.backward()
+                self.optimizer.step()
+                self.schedule.step()
+                self.step += 1
+                value = loss.item()
+                window.append(value)
+                checkpoint_due = self.step % self.config.checkpoint_every == 0 or self.step == last
+                if self.step % HISTORY_EVERY == 0 or checkpoint_due:  # a checkpoint never loses a partial window
+                    self.history["step"].append(self.step)
+                    self.history["loss"].append(float(np.mean(window)))
+                    window = []
+                elapsed = time.perf_counter() - started
+                rate = (self.step - first_step) * self.config.batch_size / elapsed
+                bar.set_postfix(loss=f"{value:.2e}", img_s=f"{rate:.1f}", refresh=False)
+                bar.update(1)
+                if checkpoint_due:
+                    self.train_seconds += time.perf_counter() - started
+                    started, first_step = time.perf_counter(), self.step
+                    self._save()
+
+    def evaluate(self) -> RegionResult:
+        """Held-out accuracy, and the precision-recall and loss curves under ``run/<region>/``."""
+        camera = camera_from_dict(self.data.region["camera"])
+        heights = expected_height_map(camera, self.config.codec.stride, self.reference_height_m)
+        evaluation = evaluate_network(self.net, self.data.held_out, self.config.codec, self.config.decode,
+                                      heights, self.device, self.show_progress, f"evaluate {self.data.name}")
+        folder = self.run / self.data.name
+        plot_precision_recall({"held-out synthetic": evaluation.evaluation}, folder / "precision_recall.png",
+                              f"{self.data.manifest['scene']} {self.data.name}: {len(self.data.held_out)} held-out "
+                              f"samples")
+        if self.history["step"]:
+            plot_training_curve(self.history["step"], self.history["loss"], folder / "training_loss.png",
+                                f"{self.data.manifest['scene']} {self.data.name} ({self.config.network.name})")
+        return RegionResult(
+            region=self.data.name, evaluation=evaluation, steps=self.step, train_seconds=self.train_seconds,
+            images_per_second=self.step * self.config.batch_size / max(self.train_seconds, 1e-9),
+            final_loss=round(self.history["loss"][-1], 6) if self.history["loss"] else float("nan"),
+            parameters=sum(p.numel() for p in self.net.parameters()),
+            receptive_field=self.net.receptive_field(), reference_height_m=self.reference_height_m)

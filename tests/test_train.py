@@ -1,0 +1,172 @@
+"""Training: the loss on degenerate input, a one-batch overfit, byte-identical resume, the windows it trains on,
+vc-train's outputs and its refusals (another scene's checkpoint, a region not in the dataset, too few shards)."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+import torch
+from dataset_factory import INPUT_SIZE, write_dataset
+
+from vc.cli.train import main as vc_train
+from vc.errors import InputError
+from vc.model.codec import CodecConfig, encode
+from vc.model.config import network_config
+from vc.model.data import CropPolicy, TrainingStream, open_region
+from vc.model.loss import LossWeights, heatmap_terms, scene_pose_loss
+from vc.model.network import ScenePoseNet
+from vc.model.train import RegionTrainer, TrainConfig, checkpoint_path, for_network, learning_rate_factor
+
+SMALL = replace(network_config("fast"), name="small", width=16, residual_units=1, sb_reduction=2)
+
+
+@pytest.fixture(scope="module")
+def flat_dataset(tmp_path_factory) -> Path:
+    return write_dataset(tmp_path_factory.mktemp("flat") / "dataset")
+
+
+def _config(**overrides) -> TrainConfig:
+    return for_network(SMALL, **{"steps": 4, "batch_size": 2, "checkpoint_every": 2, "warmup_steps": 1,
+                                 "crop": CropPolicy(size=(64, 64)), **overrides})
+
+
+@pytest.mark.parametrize("value", [0.0, 1.0])
+def test_loss_is_finite_on_empty_targets_and_constant_images(value):
+    torch.manual_seed(0)
+    net = ScenePoseNet(SMALL)
+    outputs = net(torch.full((2, 3, 64, 64), value))
+    loss, terms = scene_pose_loss(outputs, torch.zeros(2, 19, 16, 16))
+    loss.backward()
+    assert torch.isfinite(loss) and all(np.isfinite(v) for v in terms.values())
+    assert all(torch.isfinite(p.grad).all() for p in net.parameters() if p.grad is not None)
+
+
+def test_loss_weights_scale_their_own_terms():
+    prediction, targets = torch.rand(2, 19, 8, 8), torch.rand(2, 19, 8, 8)
+    terms = heatmap_terms(prediction, targets)
+    outputs = {"heatmaps": prediction, "beliefs": [prediction]}  # one belief stage + the final maps
+    loss, _ = scene_pose_loss(outputs, targets, LossWeights(detection=2.0, pose=3.0, segmentation=5.0))
+    expected = 2 * (2.0 * terms["detection"] + 3.0 * terms["pose"] + 5.0 * terms["segmentation"])
+    assert float(loss) == pytest.approx(float(expected), rel=1e-6)
+    assert float(terms["pose"]) == pytest.approx(float((prediction[:, 1:18] - targets[:, 1:18]).square().mean()))
+
+
+def test_one_batch_overfits_tenfold():
+    rng = np.random.default_rng(0)
+    images, targets = [], []
+    for _ in range(4):  # bright upright blobs on a dark ground, labelled with the real codec
+        image = np.full((64, 64, 3), 0.2, np.float32)
+        instances = np.zeros((64, 64), np.uint8)
+        x, y = rng.uniform(12, 52), rng.uniform(20, 44)
+        image[int(y) - 16:int(y) + 16, int(x) - 5:int(x) + 5] = 0.9
+        instances[int(y) - 16:int(y) + 16, int(x) - 5:int(x) + 5] = 1
+        keypoints = np.column_stack([np.full(17, x), np.linspace(y - 15, y + 15, 17), np.full(17, 2)])
+        annotation = {"center": [x, y], "keypoints": keypoints.ravel().tolist(), "amodal_bbox": [x - 5, y - 16, 10, 32]}
+        images.append(image.transpose(2, 0, 1))
+        targets.append(encode([annotation], instances, CodecConfig()))
+    images, targets = torch.from_numpy(np.stack(images)), torch.from_numpy(np.stack(targets))
+    torch.manual_seed(0)
+    net = ScenePoseNet(SMALL)
+    optimizer = torch.optim.Adam(net.parameters(), lr=3e-3)
+    losses = []
+    for _ in range(150):
+        loss, _ = scene_pose_loss(net(images), targets)
+        optimizer.zero_grad()
+        loss.backward()
+        optimizer.step()
+        losses.append(loss.item())
+    assert min(losses[-10:]) < losses[0] / 10
+
+
+def test_learning_rate_warms_up_then_decays_to_zero():
+    config = _config(steps=100, warmup_steps=10)
+    factors = [learning_rate_factor(step, config) for step in range(101)]
+    assert factors[0] == pytest.approx(0.1) and factors[9] == pytest.approx(1.0)
+    assert all(a >= b for a, b in zip(factors[10:], factors[11:], strict=False)) and factors[100] == pytest.approx(0.0)
+
+
+def test_training_windows_are_on_the_stride_grid_and_deterministic(flat_dataset):
+    data = open_region(flat_dataset, "r0")
+    stream = TrainingStream(data.train, CodecConfig(), INPUT_SIZE, CropPolicy(size=(64, 32)), seed=5)
+    image, targets = stream[3]
+    assert image.shape == (3, 32, 64) and targets.shape == (19, 8, 16)
+    assert torch.equal(stream[3][0], image) and not torch.equal(stream[4][0], image)
+    # Draw k of epoch e is a permutation: every sample exactly once per epoch.
+    assert sorted(stream.sample_index(k) for k in range(len(stream))) == list(range(len(stream)))
+    # A window's targets are the whole input's targets cut at the same place.
+    sample = data.train[stream.sample_index(3)]
+    full = TrainingStream([sample], CodecConfig(), INPUT_SIZE, crop=None, augmentation=None)[0][1]
+    assert any(torch.equal(targets, full[:, y:y + 8, x:x + 16]) for y in range(0, 9) for x in range(0, 17))
+
+
+def test_resumed_training_ends_with_identical_weights(flat_dataset, tmp_path):
+    config = _config()
+    straight = RegionTrainer(open_region(flat_dataset, "r0"), config, tmp_path / "straight", flat_dataset,
+                             workers=0, show_progress=False)
+    straight.train()
+    interrupted = RegionTrainer(open_region(flat_dataset, "r0"), config, tmp_path / "resumed", flat_dataset,
+                                workers=0, show_progress=False)
+    interrupted.train(until=2)
+    assert torch.load(checkpoint_path(tmp_path / "resumed", "r0"), weights_only=False)["step"] == 2
+    resumed = RegionTrainer(open_region(flat_dataset, "r0"), config, tmp_path / "resumed", flat_dataset,
+                            workers=1, show_progress=False)
+    assert resumed.step == 2
+    resumed.train()
+    for name, tensor in straight.net.state_dict().items():
+        assert torch.equal(tensor, resumed.net.state_dict()[name]), name
+    assert straight.history == resumed.history
+
+
+def test_resuming_with_other_settings_is_refused(flat_dataset, tmp_path):
+    RegionTrainer(open_region(flat_dataset, "r0"), _config(), tmp_path, flat_dataset, workers=0,
+                  show_progress=False).train(until=2)
+    with pytest.raises(InputError, match="learning_rate 0.002 -> 0.01"):
+        RegionTrainer(open_region(flat_dataset, "r0"), _config(learning_rate=0.01), tmp_path, flat_dataset)
+
+
+def test_vc_train_writes_checkpoints_metrics_and_curves(flat_dataset, tmp_path, capsys):
+    run = tmp_path / "run"
+    assert vc_train([str(flat_dataset), "-o", str(run), "--steps", "3", "--batch-size", "2", "--quiet",
+                     "--workers", "0"]) == 0
+    metrics = json.loads((run / "metrics.json").read_text())
+    region = metrics["regions"]["r0"]
+    assert region["steps"] == 3 and region["ground_truth"] > 0 and 0.0 <= region["ap50"] <= 1.0
+    assert metrics["scene_hash"] == json.loads((flat_dataset / "manifest.json").read_text())["scene_hash"]
+    for image in ("precision_recall.png", "r0/precision_recall.png", "r0/training_loss.png"):
+        assert (run / image).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    checkpoint = torch.load(checkpoint_path(run, "r0"), weights_only=False)
+    assert TrainConfig.from_dict(checkpoint["train_config"]).network == network_config("fast")
+    assert "AP50" in capsys.readouterr().out
+
+
+def test_a_checkpoint_from_another_scene_is_refused(flat_dataset, tmp_path, capsys):
+    run = tmp_path / "run"
+    RegionTrainer(open_region(flat_dataset, "r0"), _config(), run, flat_dataset, workers=0,
+                  show_progress=False).train(until=2)
+    other = write_dataset(tmp_path / "other", scene_hash="0" * 64)
+    with pytest.raises(InputError, match="belongs to scene"):
+        RegionTrainer(open_region(other, "r0"), _config(), run, other)
+    assert vc_train([str(other), "-o", str(run), "--quiet"]) == 2
+    assert "belongs to scene 'flat'" in capsys.readouterr().err
+
+
+def test_a_region_not_in_the_dataset_exits_with_status_2(flat_dataset, tmp_path, capsys):
+    assert vc_train([str(flat_dataset), "-o", str(tmp_path / "run"), "--region", "r9"]) == 2
+    assert "region r9 is not in this dataset (it has r0)" in capsys.readouterr().err
+    assert not (tmp_path / "run").exists()
+
+
+def test_a_step_count_below_one_is_an_argument_error(flat_dataset, tmp_path, capsys):
+    with pytest.raises(SystemExit) as exit_status:
+        vc_train([str(flat_dataset), "-o", str(tmp_path / "run"), "--steps", "0"])
+    assert exit_status.value.code == 2 and "must be at least 1" in capsys.readouterr().err
+
+
+def test_a_dataset_with_one_shard_is_refused(tmp_path, capsys):
+    single = write_dataset(tmp_path / "single", samples=4, shard_size=8)
+    assert vc_train([str(single), "-o", str(tmp_path / "run")]) == 2
+    assert "needs at least 2" in capsys.readouterr().err
