@@ -115,15 +115,27 @@ class Augmentation:
         contrast = 1.0 + rng.uniform(-self.contrast, self.contrast)
         mean = image.mean()
         image = (image - mean) * contrast + mean
-        image = image * gain + rng.normal(0.0, rng.uniform(0.0, self.noise), image.shape)
-        return np.clip(image, 0.0, 1.0).astype(np.float32)
+        noise = rng.standard_normal(image.shape, dtype=np.float32) * np.float32(rng.uniform(0.0, self.noise))
+        return np.clip(image * np.float32(gain) + noise, 0.0, 1.0, dtype=np.float32)
+
+
+def read_sample(sample: Sample) -> tuple[np.ndarray, np.ndarray]:
+    """A sample's image (H, W, 3) uint8 and instance map (H, W) uint8."""
+    return read_image(sample.image_path), read_image(sample.mask_path)[..., 0]
 
 
 def load_sample(sample: Sample, codec: CodecConfig) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """A sample as (image (H, W, 3) float32 in [0, 1], instance map (H, W) uint8, heat-map targets)."""
-    image = read_image(sample.image_path).astype(np.float32) / 255.0
-    instances = read_image(sample.mask_path)[..., 0]
-    return image, instances, encode(sample.annotations, instances, codec)
+    image, instances = read_sample(sample)
+    return image.astype(np.float32) / 255.0, instances, encode(sample.annotations, instances, codec)
+
+
+def shifted(annotation: dict, dx: float, dy: float) -> dict:
+    """The fields the codec reads, moved by (dx, dy) input pixels (a window's origin)."""
+    keypoints = np.reshape(annotation["keypoints"], (-1, 3)) + [dx, dy, 0.0]
+    centre = annotation.get("center")
+    return {"center": None if centre is None else [centre[0] + dx, centre[1] + dy],
+            "keypoints": keypoints.ravel().tolist(), "amodal_bbox": annotation["amodal_bbox"]}
 
 
 @dataclass(frozen=True)
@@ -157,16 +169,19 @@ class TrainingStream(Dataset):
     ``k // n``, cropped and jittered by a generator seeded with (seed, k).
 
     Every item is a pure function of (seed, k), so a run resumed at step s (draws from s * batch size) sees the
-    same data as one that never stopped, and data-loader workers cannot change the result.
+    same data as one that never stopped, and data-loader workers cannot change the result. Decoded samples are
+    kept in memory up to ``cache_bytes`` (PNG decoding costs more than the rest of an item; a run sees each
+    sample many times).
     """
 
     def __init__(self, samples: list[Sample], codec: CodecConfig, input_size: tuple[int, int],
                  crop: CropPolicy | None = CropPolicy(), augmentation: Augmentation | None = Augmentation(),
-                 seed: int = 0) -> None:
+                 seed: int = 0, cache_bytes: int = 4 << 30) -> None:
         if not samples:
             raise ValueError("no training samples")
         self.samples, self.codec, self.input_size = samples, codec, input_size
         self.crop, self.augmentation, self.seed = crop, augmentation, seed
+        self.cache_bytes, self._cache, self._cached_bytes = cache_bytes, {}, 0
 
     def __len__(self) -> int:
         return len(self.samples)
@@ -175,16 +190,26 @@ class TrainingStream(Dataset):
         epoch, position = divmod(draw, len(self.samples))
         return int(np.random.default_rng([self.seed, epoch]).permutation(len(self.samples))[position])
 
+    def _decoded(self, index: int) -> tuple[np.ndarray, np.ndarray]:
+        if index in self._cache:
+            return self._cache[index]
+        image, instances = read_sample(self.samples[index])
+        if self._cached_bytes + image.nbytes + instances.nbytes <= self.cache_bytes:
+            self._cache[index] = image, instances
+            self._cached_bytes += image.nbytes + instances.nbytes
+        return image, instances
+
     def __getitem__(self, draw: int) -> tuple[torch.Tensor, torch.Tensor]:
-        sample = self.samples[self.sample_index(draw)]
-        image, _, targets = load_sample(sample, self.codec)
+        index = self.sample_index(draw)
+        annotations = self.samples[index].annotations
+        image, instances = self._decoded(index)
         rng = np.random.default_rng([self.seed, 1 << 32, draw])  # apart from the permutations' streams
         if self.crop is not None:
-            x0, y0, width, height = self.crop.window(sample.annotations, self.input_size, self.codec.stride, rng)
-            stride = self.codec.stride
-            image = image[y0:y0 + height, x0:x0 + width]
-            targets = targets[:, y0 // stride:(y0 + height) // stride, x0 // stride:(x0 + width) // stride]
+            x0, y0, width, height = self.crop.window(annotations, self.input_size, self.codec.stride, rng)
+            image, instances = image[y0:y0 + height, x0:x0 + width], instances[y0:y0 + height, x0:x0 + width]
+            annotations = [shifted(annotation, -x0, -y0) for annotation in annotations]
+        targets = encode(annotations, instances, self.codec)
+        image = image.astype(np.float32) / 255.0
         if self.augmentation is not None:
             image = self.augmentation.apply(image, rng)
-        return (torch.from_numpy(np.ascontiguousarray(image.transpose(2, 0, 1))),
-                torch.from_numpy(np.ascontiguousarray(targets)))
+        return torch.from_numpy(np.ascontiguousarray(image.transpose(2, 0, 1))), torch.from_numpy(targets)

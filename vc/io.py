@@ -6,9 +6,11 @@ Everything a stage writes goes to a temporary name in the destination folder fir
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import json
 import os
+import sys
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
@@ -17,6 +19,19 @@ import numpy as np
 import OpenImageIO as oiio
 
 from vc.errors import InputError
+
+
+@atexit.register
+def _release_colour_openimageio_objects() -> None:
+    """colour-science keeps OpenImageIO type objects in module globals (colour.io.image); when torch is loaded
+    too, they outlive OpenImageIO's nanobind module at shutdown and it prints a "leaked instances" report on every
+    exit. Dropping those references while the interpreter is still whole keeps stderr clean."""
+    image_module = sys.modules.get("colour.io.image")
+    if image_module is None:
+        return
+    getattr(image_module, "MAPPING_BIT_DEPTH", {}).clear()
+    for name in ("DOUBLE", "FLOAT", "HALF", "UINT8", "UINT16", "ImageSpec"):
+        image_module.__dict__.pop(name, None)
 
 
 @contextlib.contextmanager
