@@ -11,13 +11,28 @@ from __future__ import annotations
 
 import io
 import json
+import shutil
+import tempfile
+import warnings
+import zipfile
+from dataclasses import asdict
+from pathlib import Path
 
+import numpy as np
 import onnx
 import torch
 import torch.nn.functional as F
 from torch import Tensor, nn
 
+from vc.calibration.camera import camera_from_dict
+from vc.deploy.bundle import BUNDLE_FORMAT, BUNDLE_FORMAT_VERSION, MANIFEST, MODELS, sha256
+from vc.errors import InputError
+from vc.io import atomic_path
+from vc.keypoints import COCO_KEYPOINTS, COCO_SKELETON_1BASED
+from vc.model.codec import expected_height_map
 from vc.model.network import ScenePoseNet
+from vc.model.train import Checkpoint, TrainConfig, load_checkpoint
+from vc.versions import package_versions
 
 OPSET = 17
 INPUT_NAME, OUTPUT_NAME = "crop", "heatmaps"
@@ -26,14 +41,15 @@ INPUT_NAME, OUTPUT_NAME = "crop", "heatmaps"
 class DeployedNetwork(nn.Module):
     """uint8 NHWC crop -> heat maps: the preprocessing an appliance would otherwise have to reimplement."""
 
-    def __init__(self, net: ScenePoseNet, input_size: tuple[int, int]) -> None:
+    def __init__(self, net: ScenePoseNet, crop_size: tuple[int, int], input_size: tuple[int, int]) -> None:
         super().__init__()
         self.net, self.input_size = net.eval(), input_size
+        self.resize = tuple(crop_size) != tuple(input_size)  # fixed per region: decided here, not while tracing
 
     def forward(self, crop: Tensor) -> Tensor:
         image = crop.permute(0, 3, 1, 2).float()
-        width, height = self.input_size
-        if tuple(image.shape[-2:]) != (height, width):
+        if self.resize:
+            width, height = self.input_size
             image = F.interpolate(image, size=(height, width), mode="bilinear", align_corners=False, antialias=False)
         return self.net(image / 255.0)["heatmaps"]
 
@@ -41,10 +57,11 @@ class DeployedNetwork(nn.Module):
 def export_onnx(net: ScenePoseNet, crop_size: tuple[int, int], input_size: tuple[int, int],
                 metadata: dict[str, object]) -> bytes:
     """The serialised ONNX model of ``net`` for crops of ``crop_size`` (width, height)."""
-    wrapper = DeployedNetwork(net, input_size)
+    wrapper = DeployedNetwork(net, crop_size, input_size)
     example = torch.zeros(1, crop_size[1], crop_size[0], 3, dtype=torch.uint8)
     buffer = io.BytesIO()
-    with torch.no_grad():
+    with torch.no_grad(), warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)  # the classic exporter announces its own retirement
         torch.onnx.export(wrapper, (example,), buffer, input_names=[INPUT_NAME], output_names=[OUTPUT_NAME],
                           opset_version=OPSET, dynamo=False, do_constant_folding=True)
     model = onnx.load_from_string(buffer.getvalue())
@@ -53,3 +70,96 @@ def export_onnx(net: ScenePoseNet, crop_size: tuple[int, int], input_size: tuple
         entry.key, entry.value = key, value if isinstance(value, str) else json.dumps(value)
     onnx.checker.check_model(model)
     return model.SerializeToString()
+
+
+def _npy_bytes(array: np.ndarray) -> bytes:
+    buffer = io.BytesIO()
+    np.save(buffer, array, allow_pickle=False)
+    return buffer.getvalue()
+
+
+def _finished_checkpoints(run: Path) -> list[Checkpoint]:
+    paths = sorted((run / "checkpoints").glob("*.pt"))
+    if not paths:
+        raise InputError(run, "checkpoints", "no checkpoints in this run folder (train it with vc-train first)")
+    checkpoints = [load_checkpoint(path) for path in paths]
+    for checkpoint in checkpoints:
+        content = checkpoint.content
+        if checkpoint.step < content["train_config"]["steps"]:
+            raise InputError(checkpoint.path, "step", f"training of region {content['region']!r} is not finished "
+                                                      f"(step {checkpoint.step} of {content['train_config']['steps']};"
+                                                      f" run vc-train again to resume it)")
+        if content["scene_hash"] != checkpoints[0].content["scene_hash"]:
+            raise InputError(checkpoint.path, "scene_hash", f"region {content['region']!r} was trained for another "
+                                                            f"scene than {checkpoints[0].path.name}")
+        if not content.get("scene_camera"):
+            raise InputError(checkpoint.path, "scene_camera", "the dataset it was trained on predates bundle export "
+                                                              "(no full-frame camera); render and train it again")
+    return checkpoints
+
+
+def network_from_checkpoint(checkpoint: Checkpoint) -> ScenePoseNet:
+    config = TrainConfig.from_dict(checkpoint.content["train_config"])
+    net = ScenePoseNet(config.network)
+    net.load_state_dict(checkpoint.content["model"])
+    return net.eval()
+
+
+def bundle_files(run: Path) -> tuple[dict, dict[str, bytes]]:
+    """The manifest and the files (relative name -> bytes) of the bundle of a finished run."""
+    checkpoints = _finished_checkpoints(run)
+    first = checkpoints[0].content
+    files: dict[str, bytes] = {}
+    regions = []
+    for checkpoint in checkpoints:
+        content, name = checkpoint.content, checkpoint.content["region"]
+        config = TrainConfig.from_dict(content["train_config"])
+        entry = content["region_entry"]
+        crop_window = [int(v) for v in entry["crop_window"]]
+        input_size = tuple(int(v) for v in entry["input_size"])
+        model_name, heights_name = f"{MODELS}/{name}.onnx", f"{MODELS}/{name}.heights.npy"
+        files[model_name] = export_onnx(network_from_checkpoint(checkpoint), (crop_window[2], crop_window[3]),
+                                        input_size, {"scene": content["scene"], "region": name,
+                                                     "network": config.network.to_dict()})
+        heights = expected_height_map(camera_from_dict(entry["camera"]), config.codec.stride,
+                                      content["reference_height_m"])
+        files[heights_name] = _npy_bytes(heights)
+        regions.append({
+            "name": name, "crop_window": crop_window, "input_size": list(input_size),
+            "output_stride": config.codec.stride, "decode": asdict(config.decode),
+            "ground_polygon": entry["ground_polygon"], "owned_image_area": entry["owned_image_area"],
+            "reference_height_m": content["reference_height_m"], "network": config.network.to_dict(),
+            "model": model_name, "model_sha256": sha256(files[model_name]),
+            "expected_height": heights_name, "expected_height_sha256": sha256(files[heights_name]),
+        })
+    manifest = {
+        "format": BUNDLE_FORMAT, "format_version": BUNDLE_FORMAT_VERSION, "scene": first["scene"],
+        "scene_hash": first["scene_hash"], "camera": first["scene_camera"],
+        "frame_size": first["scene_camera"]["size"], "precision": "fp32",
+        "input": {"name": INPUT_NAME, "dtype": "uint8", "layout": "NHWC RGB, the region's crop window of the frame"},
+        "output": {"name": OUTPUT_NAME, "channels": ["centre", *COCO_KEYPOINTS, "mask"]},
+        "keypoints": list(COCO_KEYPOINTS), "skeleton": [list(pair) for pair in COCO_SKELETON_1BASED],
+        "regions": regions, "versions": package_versions(),
+    }
+    return manifest, files
+
+
+def write_bundle(manifest: dict, files: dict[str, bytes], output: Path, as_zip: bool) -> None:
+    """Write the bundle folder (or zip) under a temporary name and rename it into place."""
+    documents = {MANIFEST: (json.dumps(manifest, indent=2) + "\n").encode(), **files}
+    if as_zip:
+        with atomic_path(output) as temporary, zipfile.ZipFile(temporary, "w", zipfile.ZIP_DEFLATED) as archive:
+            for name, data in documents.items():
+                archive.writestr(name, data)
+        return
+    output.parent.mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(prefix=f".{output.name}.", dir=output.parent))
+    try:
+        for name, data in documents.items():
+            (staging / name).parent.mkdir(parents=True, exist_ok=True)
+            (staging / name).write_bytes(data)
+        if output.exists():
+            shutil.rmtree(output)
+        staging.rename(output)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)

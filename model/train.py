@@ -214,6 +214,7 @@ class RegionTrainer:
             "kind": CHECKPOINT_KIND, "format_version": CHECKPOINT_FORMAT,
             "scene": self.data.manifest["scene"], "scene_hash": self.data.manifest["scene_hash"],
             "region": self.data.name, "region_entry": self.data.region, "dataset": str(self.dataset),
+            "scene_camera": self.data.manifest.get("camera"),
             "dataset_settings": self.data.manifest["settings"], "train_config": self.config.to_dict(),
             "reference_height_m": self.reference_height_m, "step": self.step, "history": self.history,
             "train_seconds": self.train_seconds, "versions": {"torch": torch.__version__},

@@ -7,7 +7,6 @@ command yields the same bytes as an uninterrupted run.
 
 from __future__ import annotations
 
-import importlib.metadata
 import time
 from collections import defaultdict
 from collections.abc import Iterator
@@ -16,7 +15,6 @@ from pathlib import Path
 
 from tqdm import tqdm
 
-from vc import __version__
 from vc.io import write_json
 from vc.render import dataset
 from vc.render.bodies import BodyModel
@@ -24,10 +22,10 @@ from vc.render.effects import EffectDecision
 from vc.render.synthesis import RegionSynthesizer, RenderedSample, SynthesisSettings
 from vc.scenes.loader import Scene
 from vc.scenes.regions import Region
+from vc.versions import package_versions
 
 DEFAULT_SHARD_SIZE = 100
 #: Packages whose versions change the rendered bytes.
-VERSIONED_PACKAGES = ("mitsuba", "drjit", "anny", "torch", "numpy", "opencv-python-headless", "openimageio")
 
 
 @dataclass(frozen=True)
@@ -39,16 +37,6 @@ class RenderRequest:
     effects: list[EffectDecision]
     output: Path
     shard_size: int = DEFAULT_SHARD_SIZE
-
-
-def _versions() -> dict[str, str]:
-    versions = {"visual-compiler": __version__}
-    for name in VERSIONED_PACKAGES:
-        try:
-            versions[name] = importlib.metadata.version(name)
-        except importlib.metadata.PackageNotFoundError:
-            continue
-    return versions
 
 
 def _samples(synthesizer: RegionSynthesizer, shard: dataset.Shard, timings: dict[str, float], progress: tqdm
@@ -76,11 +64,12 @@ def manifest(request: RenderRequest, counts: dict[str, dict] | None = None) -> d
         "format_version": dataset.FORMAT_VERSION,
         "scene": request.scene.name,
         "scene_hash": request.scene.content_hash,
+        "camera": scene_camera.to_dict(),  # the full frame's camera, which regions crop (an exported bundle's)
         "settings": {**asdict(request.settings), "shard_size": request.shard_size},
         "effects": [decision.to_dict() for decision in request.effects],
         "categories": [dataset.PERSON_CATEGORY],
         "regions": regions,
-        "versions": _versions(),
+        "versions": package_versions(),
     }
 
 

@@ -70,8 +70,14 @@ def write_dataset(root: Path, samples: int = 24, shard_size: int = 8, region: st
     for number, start in enumerate(range(0, samples, shard_size)):
         shard = dataset.Shard(region, number, start, min(start + shard_size, samples))
         dataset.write_shard(root, shard, (sample(camera, i, seed) for i in range(shard.start, shard.stop)), {})
+    # The frame is the region's input itself (crop window = whole frame, scale 1); the region owns its left 3/4.
+    width, height = INPUT_SIZE
+    owned = {"type": "Polygon", "coordinates": [[[-0.5, -0.5], [0.75 * width, -0.5], [0.75 * width, height],
+                                                 [-0.5, height], [-0.5, -0.5]]]}
+    entry = {"name": region, "input_size": list(INPUT_SIZE), "crop_window": [0, 0, width, height],
+             "camera": camera.to_dict(), "ground_polygon": {"type": "Polygon", "coordinates": []},
+             "owned_image_area": owned}
     manifest = {"format_version": dataset.FORMAT_VERSION, "scene": "flat", "scene_hash": scene_hash,
-                "settings": {"seed": seed}, "regions": {region: {"name": region, "input_size": list(INPUT_SIZE),
-                                                                 "camera": camera.to_dict()}}}
+                "camera": camera.to_dict(), "settings": {"seed": seed}, "regions": {region: entry}}
     dataset.write_manifest(root, manifest)
     return root

@@ -1,0 +1,138 @@
+"""The bundle an appliance embeds: ``manifest.json`` + ``models/<region>.onnx`` + ``models/<region>.heights.npy``,
+as a folder or a zip of one (numpy and the standard library only).
+
+Nothing is loaded before the whole bundle checks out: the format and its version, every field the runtime
+reads, every listed file present and matching its SHA-256. A bad bundle is refused with one
+:class:`~vc.errors.InputError` naming the file and the field.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from vc.deploy.decode import DecodeConfig
+from vc.errors import InputError
+
+BUNDLE_FORMAT = "visual-compiler bundle"
+BUNDLE_FORMAT_VERSION = 1
+MANIFEST = "manifest.json"
+MODELS = "models"
+
+
+def sha256(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()
+
+
+@dataclass(frozen=True)
+class RegionEntry:
+    """One region of a bundle, as the runtime uses it."""
+
+    name: str
+    crop_window: tuple[int, int, int, int]  # x0, y0, width, height in frame pixels
+    input_size: tuple[int, int]  # network input width, height
+    decode: DecodeConfig
+    owned_image_area: dict  # GeoJSON (Multi)Polygon in frame pixels: detections whose foot falls here are kept
+    model: bytes  # the ONNX model
+    expected_height_px: np.ndarray  # (h, w) per heat-map cell
+
+
+@dataclass(frozen=True)
+class Bundle:
+    path: Path
+    manifest: dict
+    regions: list[RegionEntry]
+
+    @property
+    def frame_size(self) -> tuple[int, int]:
+        width, height = self.manifest["frame_size"]
+        return int(width), int(height)
+
+
+class _Files:
+    """Read access to a bundle folder or zip by relative name."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        self.archive: zipfile.ZipFile | None = None
+        if path.is_file():
+            try:
+                self.archive = zipfile.ZipFile(path)
+                broken = self.archive.testzip()
+            except (zipfile.BadZipFile, OSError) as error:
+                raise InputError(path, "", f"not a readable zip bundle ({error})") from None
+            if broken is not None:
+                raise InputError(path, broken, "corrupted member (CRC mismatch)")
+        elif not path.is_dir():
+            raise InputError(path, "", "bundle not found (expected a folder or a .zip)")
+
+    def read(self, name: str, field: str) -> bytes:
+        try:
+            if self.archive is not None:
+                return self.archive.read(name)
+            return (self.path / name).read_bytes()
+        except (KeyError, FileNotFoundError, IsADirectoryError):
+            raise InputError(self.path, field, f"{name} is missing from the bundle") from None
+        except (OSError, zipfile.BadZipFile) as error:
+            raise InputError(self.path, field, f"cannot read {name} ({error})") from None
+
+
+def _require(mapping: dict, key: str, kind: type | tuple[type, ...], where: str, path: Path) -> object:
+    if not isinstance(mapping, dict) or key not in mapping:
+        raise InputError(path, f"{where}{key}", "missing")
+    value = mapping[key]
+    if not isinstance(value, kind):
+        raise InputError(path, f"{where}{key}", f"expected {getattr(kind, '__name__', kind)}, got "
+                                                f"{type(value).__name__}")
+    return value
+
+
+def _checked(files: _Files, entry: dict, key: str, where: str) -> bytes:
+    name = _require(entry, key, str, where, files.path)
+    data = files.read(name, f"{where}{key}")
+    expected = _require(entry, f"{key}_sha256", str, where, files.path)
+    if sha256(data) != expected:
+        raise InputError(files.path, f"{where}{key}_sha256", f"{name} does not match its SHA-256 (tampered or "
+                                                              "damaged)")
+    return data
+
+
+def load_bundle(path: str | Path) -> Bundle:
+    """Validate and read a bundle folder or zip (see the module docstring)."""
+    path = Path(path)
+    files = _Files(path)
+    try:
+        manifest = json.loads(files.read(MANIFEST, ""))
+    except json.JSONDecodeError as error:
+        raise InputError(path, MANIFEST, f"not valid JSON ({error})") from None
+    if not isinstance(manifest, dict) or manifest.get("format") != BUNDLE_FORMAT:
+        raise InputError(path, f"{MANIFEST}: format", f"not a {BUNDLE_FORMAT}")
+    version = manifest.get("format_version")
+    if version != BUNDLE_FORMAT_VERSION:
+        raise InputError(path, f"{MANIFEST}: format_version", f"unsupported bundle format {version!r} (this runtime "
+                                                              f"reads {BUNDLE_FORMAT_VERSION})")
+    _require(manifest, "frame_size", list, f"{MANIFEST}: ", path)
+    regions = []
+    for index, entry in enumerate(_require(manifest, "regions", list, f"{MANIFEST}: ", path)):
+        where = f"{MANIFEST}: regions.{index}."
+        model = _checked(files, entry, "model", where)
+        heights = np.load(io.BytesIO(_checked(files, entry, "expected_height", where)), allow_pickle=False)
+        try:
+            decode = DecodeConfig(**_require(entry, "decode", dict, where, path))
+        except TypeError as error:
+            raise InputError(path, f"{where}decode", str(error)) from None
+        regions.append(RegionEntry(
+            name=_require(entry, "name", str, where, path),
+            crop_window=tuple(_require(entry, "crop_window", list, where, path)),
+            input_size=tuple(_require(entry, "input_size", list, where, path)),
+            decode=decode, owned_image_area=_require(entry, "owned_image_area", dict, where, path),
+            model=model, expected_height_px=heights))
+    if not regions:
+        raise InputError(path, f"{MANIFEST}: regions", "the bundle has no regions")
+    return Bundle(path, manifest, regions)

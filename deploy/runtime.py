@@ -1,0 +1,146 @@
+"""Running a bundle on full frames: numpy and onnxruntime only (an appliance has nothing else).
+
+Per frame: cut each region's crop window (the graph resizes and normalises it), run the region models, decode
+their heat maps (:mod:`vc.deploy.decode`, the same code the training evaluation uses), keep the people each region
+owns — those whose foot point falls in its owned image area, so neighbouring regions never report one person
+twice — and map them to frame pixels.
+"""
+
+from __future__ import annotations
+
+import os
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import onnxruntime as ort
+
+from vc.deploy.bundle import Bundle, RegionEntry, load_bundle
+from vc.deploy.decode import DecodedPerson, decode
+from vc.errors import InputError
+
+
+@dataclass
+class Person:
+    """One detected person in frame pixels (pixel centres at integers)."""
+
+    region: str
+    score: float
+    box: np.ndarray  # (4,) x0, y0, x1, y1 (outer edges)
+    keypoints: np.ndarray  # (17, 3) x, y, confidence
+    mask: np.ndarray  # (H, W) bool over the frame
+
+    def to_dict(self) -> dict:
+        return {"region": self.region, "score": round(float(self.score), 4),
+                "box": [round(float(v), 2) for v in self.box],
+                "keypoints": [[round(float(x), 2), round(float(y), 2), round(float(c), 4)]
+                              for x, y, c in self.keypoints]}
+
+
+def _inside(points: np.ndarray, ring: np.ndarray) -> np.ndarray:
+    """Even-odd test of points (N, 2) against one closed ring (M, 2)."""
+    x, y = points[:, 0, None], points[:, 1, None]
+    x0, y0 = ring[None, :-1, 0], ring[None, :-1, 1]
+    x1, y1 = ring[None, 1:, 0], ring[None, 1:, 1]
+    crosses = (y0 > y) != (y1 > y)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x_cross = x0 + (y - y0) * (x1 - x0) / (y1 - y0)
+    return np.sum(crosses & (x < x_cross), axis=1) % 2 == 1
+
+
+def in_area(points: np.ndarray, area: dict) -> np.ndarray:
+    """Whether points (N, 2) lie in a GeoJSON Polygon or MultiPolygon (holes respected)."""
+    points = np.asarray(points, np.float64).reshape(-1, 2)
+    polygons = [area["coordinates"]] if area["type"] == "Polygon" else area["coordinates"]
+    result = np.zeros(len(points), bool)
+    for rings in polygons:
+        inside = _inside(points, np.asarray(rings[0], np.float64))
+        for hole in rings[1:]:
+            inside &= ~_inside(points, np.asarray(hole, np.float64))
+        result |= inside
+    return result
+
+
+class RegionRunner:
+    """One region's model session and the mapping from its network input to frame pixels."""
+
+    def __init__(self, entry: RegionEntry, frame_size: tuple[int, int], threads: int) -> None:
+        self.entry = entry
+        options = ort.SessionOptions()
+        options.intra_op_num_threads = threads
+        options.inter_op_num_threads = 1
+        options.execution_mode = ort.ExecutionMode.ORT_SEQUENTIAL
+        self.session = ort.InferenceSession(entry.model, options, providers=["CPUExecutionProvider"])
+        self.input_name = self.session.get_inputs()[0].name
+        x0, y0, width, height = entry.crop_window
+        self.origin = np.array([x0, y0], np.float64)
+        self.scale = np.array([entry.input_size[0] / width, entry.input_size[1] / height])
+        self.frame_size = frame_size
+
+    def heatmaps(self, frame: np.ndarray) -> np.ndarray:
+        x0, y0, width, height = self.entry.crop_window
+        crop = np.ascontiguousarray(frame[y0:y0 + height, x0:x0 + width])
+        return self.session.run(None, {self.input_name: crop[None]})[0][0]
+
+    def to_frame(self, xy: np.ndarray) -> np.ndarray:
+        """Network-input pixels -> frame pixels (pixel centres at integers in both)."""
+        return self.origin + (np.asarray(xy, np.float64) + 0.5) / self.scale - 0.5
+
+    def people(self, frame: np.ndarray) -> list[Person]:
+        decoded = decode(self.heatmaps(frame), self.entry.decode, self.entry.expected_height_px)
+        if not decoded:
+            return []
+        boxes = np.array([np.r_[self.to_frame(p.box[:2]), self.to_frame(p.box[2:])] for p in decoded])
+        feet = np.column_stack([(boxes[:, 0] + boxes[:, 2]) / 2, boxes[:, 3]])
+        owned = in_area(feet, self.entry.owned_image_area)
+        return [self._person(person, box) for person, box, keep in zip(decoded, boxes, owned, strict=True) if keep]
+
+    def _person(self, person: DecodedPerson, box: np.ndarray) -> Person:
+        keypoints = person.keypoints.copy()
+        keypoints[:, :2] = self.to_frame(keypoints[:, :2])
+        return Person(self.entry.name, person.score, box, keypoints, self._frame_mask(person.mask_cells))
+
+    def _frame_mask(self, mask_cells: np.ndarray) -> np.ndarray:
+        """Cells -> frame pixels: each frame pixel in the crop takes the cell its centre falls in."""
+        width, height = self.frame_size
+        mask = np.zeros((height, width), bool)
+        x0, y0, crop_width, crop_height = self.entry.crop_window
+        stride = self.entry.decode.stride
+        columns = ((np.arange(crop_width) + 0.5) * self.scale[0] / stride).astype(int)
+        rows = ((np.arange(crop_height) + 0.5) * self.scale[1] / stride).astype(int)
+        rows, columns = np.minimum(rows, mask_cells.shape[0] - 1), np.minimum(columns, mask_cells.shape[1] - 1)
+        mask[y0:y0 + crop_height, x0:x0 + crop_width] = mask_cells[np.ix_(rows, columns)]
+        return mask
+
+
+class Runtime:
+    """A loaded bundle: ``runtime(frame)`` -> the people in an (H, W, 3) uint8 RGB frame.
+
+    ``threads`` is onnxruntime's intra-op thread count per region model (default: all cores, the regions run one
+    after the other); with ``parallel_regions`` the regions run at once in a thread pool, one thread each,
+    which pays off when regions are small and cores many.
+    """
+
+    def __init__(self, bundle: Bundle | str | Path, threads: int | None = None, parallel_regions: bool = False):
+        self.bundle = bundle if isinstance(bundle, Bundle) else load_bundle(bundle)
+        cores = os.cpu_count() or 1
+        per_region = 1 if parallel_regions else (threads or cores)
+        self.runners = [RegionRunner(entry, self.bundle.frame_size, per_region) for entry in self.bundle.regions]
+        self.pool = ThreadPoolExecutor(max_workers=threads or cores) if parallel_regions else None
+
+    def check_frame(self, frame: np.ndarray) -> None:
+        width, height = self.bundle.frame_size
+        if not isinstance(frame, np.ndarray) or frame.dtype != np.uint8:
+            raise InputError(None, "frame", f"expected a uint8 array, got {getattr(frame, 'dtype', type(frame))}")
+        if frame.shape != (height, width, 3):
+            raise InputError(None, "frame", f"expected shape {(height, width, 3)} (the bundle's camera), got "
+                                            f"{frame.shape}")
+
+    def __call__(self, frame: np.ndarray) -> list[Person]:
+        self.check_frame(frame)
+        if self.pool is None:
+            per_region = [runner.people(frame) for runner in self.runners]
+        else:
+            per_region = list(self.pool.map(lambda runner: runner.people(frame), self.runners))
+        return sorted((person for people in per_region for person in people), key=lambda person: -person.score)

@@ -1,0 +1,164 @@
+"""vc-export and the runtime: parity between PyTorch and onnxruntime, the bundle's validation (hashes, files,
+format), the runtime's isolation from torch and mitsuba, frame checks and region ownership."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+import sys
+import zipfile
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import onnxruntime as ort
+import pytest
+import torch
+from dataset_factory import INPUT_SIZE, region_camera, sample, write_dataset
+
+from vc.cli.export import main as vc_export
+from vc.deploy.bundle import load_bundle
+from vc.deploy.decode import decode
+from vc.deploy.runtime import Runtime, in_area
+from vc.errors import InputError
+from vc.model.config import network_config
+from vc.model.data import open_region
+from vc.model.export import DeployedNetwork, bundle_files, export_onnx
+from vc.model.network import ScenePoseNet
+from vc.model.train import RegionTrainer, for_network
+
+SMALL = replace(network_config("fast"), name="small", width=16, residual_units=1, sb_reduction=2)
+
+
+@pytest.fixture(scope="module")
+def trained_run(tmp_path_factory) -> Path:
+    root = tmp_path_factory.mktemp("export")
+    data_root = write_dataset(root / "dataset")
+    run = root / "run"
+    config = for_network(SMALL, steps=2, batch_size=2, warmup_steps=1)
+    RegionTrainer(open_region(data_root, "r0"), config, run, data_root, workers=0, show_progress=False).train()
+    return run
+
+
+@pytest.fixture(scope="module")
+def bundle(trained_run, tmp_path_factory) -> Path:
+    output = tmp_path_factory.mktemp("bundle") / "bundle"
+    assert vc_export([str(trained_run), "-o", str(output)]) == 0
+    return output
+
+
+def _trained_network(seed: int = 0) -> ScenePoseNet:
+    """A network with non-trivial batch-norm statistics, so that parity is tested on more than zeros."""
+    torch.manual_seed(seed)
+    net = ScenePoseNet(SMALL)
+    for module in net.modules():
+        if isinstance(module, torch.nn.BatchNorm2d):
+            module.running_mean.uniform_(-0.2, 0.2)
+            module.running_var.uniform_(0.5, 2.0)
+            module.weight.data.uniform_(0.5, 1.5)
+    for output in [net.head[-1], *(unit.belief[-1] for unit in net.sb_units)]:
+        torch.nn.init.normal_(output.weight, std=0.3)
+    return net.eval()
+
+
+@pytest.mark.parametrize(("crop", "input_size"), [((128, 64), (128, 64)), ((150, 70), (128, 64)),
+                                                  ((96, 40), (128, 64))])
+def test_onnxruntime_matches_pytorch(crop, input_size):
+    net = _trained_network()
+    model = export_onnx(net, crop, input_size, {"region": "r0"})
+    session = ort.InferenceSession(model, providers=["CPUExecutionProvider"])
+    frame = np.random.default_rng(1).integers(0, 256, (1, crop[1], crop[0], 3), dtype=np.uint8)
+    exported = session.run(None, {"crop": frame})[0]
+    with torch.no_grad():
+        reference = DeployedNetwork(net, crop, input_size)(torch.from_numpy(frame)).numpy()
+    assert exported.shape == reference.shape == (1, 19, input_size[1] // 4, input_size[0] // 4)
+    assert np.max(np.abs(exported - reference)) <= 1e-4
+    people = decode(exported[0]), decode(reference[0])
+    assert len(people[0]) == len(people[1]) > 0
+    for a, b in zip(*people, strict=True):
+        assert np.allclose(a.box, b.box, atol=1e-3) and np.allclose(a.keypoints, b.keypoints, atol=1e-3)
+
+
+def test_the_bundle_lists_every_file_with_its_hash(bundle):
+    manifest = json.loads((bundle / "manifest.json").read_text())
+    assert manifest["format_version"] == 1 and manifest["frame_size"] == list(INPUT_SIZE)
+    assert len(manifest["keypoints"]) == 17 and len(manifest["skeleton"]) == 19
+    region = manifest["regions"][0]
+    assert region["name"] == "r0" and region["crop_window"] == [0, 0, *INPUT_SIZE]
+    assert {"onnx", "onnxruntime", "torch"} <= set(manifest["versions"])
+    loaded = load_bundle(bundle)
+    assert loaded.regions[0].expected_height_px.shape == (INPUT_SIZE[1] // 4, INPUT_SIZE[0] // 4)
+
+
+def test_a_zip_bundle_loads_like_a_folder(trained_run, tmp_path):
+    assert vc_export([str(trained_run), "-o", str(tmp_path / "bundle.zip"), "--zip"]) == 0
+    assert zipfile.is_zipfile(tmp_path / "bundle.zip")
+    assert load_bundle(tmp_path / "bundle.zip").regions[0].name == "r0"
+
+
+@pytest.mark.parametrize(("damage", "message"), [
+    (lambda b: (b / "models" / "r0.onnx").write_bytes((b / "models" / "r0.onnx").read_bytes() + b"x"), "SHA-256"),
+    (lambda b: (b / "models" / "r0.onnx").unlink(), "models/r0.onnx is missing"),
+    (lambda b: (b / "manifest.json").write_text(
+        (b / "manifest.json").read_text().replace('"format_version": 1', '"format_version": 99')),
+     "unsupported bundle format 99"),
+    (lambda b: (b / "manifest.json").write_text("{"), "not valid JSON"),
+    (lambda b: (b / "manifest.json").unlink(), "manifest.json is missing"),
+])
+def test_a_bad_bundle_is_refused_before_loading(bundle, tmp_path, damage, message):
+    copy = Path(shutil.copytree(bundle, tmp_path / "copy"))
+    damage(copy)
+    with pytest.raises(InputError, match=message):
+        load_bundle(copy)
+
+
+def test_a_corrupted_zip_is_refused(trained_run, tmp_path):
+    path = tmp_path / "bundle.zip"
+    assert vc_export([str(trained_run), "-o", str(path), "--zip"]) == 0
+    data = bytearray(path.read_bytes())
+    data[len(data) // 3] ^= 0xFF
+    path.write_bytes(bytes(data))
+    with pytest.raises(InputError, match="bundle.zip"):
+        load_bundle(path)
+
+
+def test_the_runtime_imports_neither_torch_nor_mitsuba():
+    code = ("import sys, vc.deploy.runtime; bad = {'torch', 'mitsuba', 'drjit'} & set(sys.modules); "
+            "sys.exit(f'imported {bad}' if bad else 0)")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
+    assert result.returncode == 0, result.stderr + result.stdout
+
+
+def test_the_runtime_checks_frames(bundle):
+    runtime = Runtime(bundle, threads=1)
+    frame = sample(region_camera(), 0).image
+    assert isinstance(runtime(frame), list)
+    with pytest.raises(InputError, match="expected shape"):
+        runtime(frame[:-1])
+    with pytest.raises(InputError, match="uint8"):
+        runtime(frame.astype(np.float32))
+
+
+def test_ownership_follows_the_owned_area_with_holes():
+    area = {"type": "Polygon", "coordinates": [[[0, 0], [10, 0], [10, 10], [0, 10], [0, 0]],
+                                               [[4, 4], [6, 4], [6, 6], [4, 6], [4, 4]]]}
+    points = np.array([[1, 1], [5, 5], [11, 5], [9.9, 9.9]])
+    assert in_area(points, area).tolist() == [True, False, False, True]
+    multi = {"type": "MultiPolygon", "coordinates": [area["coordinates"], [[[20, 0], [30, 0], [30, 5], [20, 0]]]]}
+    assert in_area(np.array([[25, 1], [25, 4]]), multi).tolist() == [True, False]
+
+
+def test_an_unfinished_run_is_not_exported(tmp_path, capsys):
+    data_root = write_dataset(tmp_path / "dataset")
+    config = for_network(SMALL, steps=4, batch_size=2, warmup_steps=1, checkpoint_every=2)
+    RegionTrainer(open_region(data_root, "r0"), config, tmp_path / "run", data_root, workers=0,
+                  show_progress=False).train(until=2)
+    assert vc_export([str(tmp_path / "run"), "-o", str(tmp_path / "bundle")]) == 2
+    assert "not finished (step 2 of 4" in capsys.readouterr().err
+    assert not (tmp_path / "bundle").exists()
+
+
+def test_bundle_files_refuse_an_empty_run(tmp_path):
+    with pytest.raises(InputError, match="no checkpoints"):
+        bundle_files(tmp_path)
