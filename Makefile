@@ -36,16 +36,21 @@ test-fast: install
 	$(PY) -m pytest -q -n 2 --dist loadgroup -m "not slow"
 
 # The demo scene end to end as far as the stages go today: render its background from the layout with
-# Mitsuba, validate the scene and plan its regions, draw the overlay, render a small labelled dataset of
-# synthetic people (anny + Mitsuba) and a contact sheet of it.
+# Mitsuba, validate the scene and plan its regions, draw the overlay, render a labelled dataset of synthetic
+# people (anny + Mitsuba) and a contact sheet of it, train a short ScenePoseNet per region (a few minutes; the
+# full default budget is ~20 minutes per region, see the README), and export the ONNX bundle.
+DEMO_STEPS ?= 200
 demo: install
 	$(VENV)/bin/vc-scene synthesize scenes/demo/scene.yaml -o $(DEMO_OUT)/background.png --spp 128
 	$(VENV)/bin/vc-scene check scenes/demo/scene.yaml --json $(DEMO_OUT)/scene-check.json
 	$(VENV)/bin/vc-scene show scenes/demo/scene.yaml -o $(DEMO_OUT)/overlay.png
-	$(VENV)/bin/vc-render scenes/demo/scene.yaml -o $(DEMO_OUT)/dataset --samples 100
+	$(VENV)/bin/vc-render scenes/demo/scene.yaml -o $(DEMO_OUT)/dataset --samples 300 --shard-size 100
 	$(VENV)/bin/vc-render scenes/demo/scene.yaml --preview -o $(DEMO_OUT)/render-preview.png --samples 6
+	$(VENV)/bin/vc-train $(DEMO_OUT)/dataset -o $(DEMO_OUT)/run --steps $(DEMO_STEPS)
+	$(VENV)/bin/vc-export $(DEMO_OUT)/run -o $(DEMO_OUT)/bundle
 	@echo "demo: background $(DEMO_OUT)/background.png, overlay $(DEMO_OUT)/overlay.png," \
-		"dataset $(DEMO_OUT)/dataset, samples drawn in $(DEMO_OUT)/render-preview.png"
+		"samples drawn in $(DEMO_OUT)/render-preview.png, held-out accuracy in $(DEMO_OUT)/run/metrics.json" \
+		"and $(DEMO_OUT)/run/precision_recall.png, bundle in $(DEMO_OUT)/bundle"
 
 lint: install
 	$(VENV)/bin/ruff check .
