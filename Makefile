@@ -44,9 +44,9 @@ demo: install
 	$(VENV)/bin/vc-scene synthesize scenes/demo/scene.yaml -o $(DEMO_OUT)/background.png --spp 128
 	$(VENV)/bin/vc-scene check scenes/demo/scene.yaml --json $(DEMO_OUT)/scene-check.json
 	$(VENV)/bin/vc-scene show scenes/demo/scene.yaml -o $(DEMO_OUT)/overlay.png
-	$(VENV)/bin/vc-render scenes/demo/scene.yaml -o $(DEMO_OUT)/dataset --samples 300 --shard-size 100
+	$(VENV)/bin/vc-render scenes/demo/scene.yaml -o $(DEMO_OUT)/renders --samples 300 --shard-size 100
 	$(VENV)/bin/vc-render scenes/demo/scene.yaml --preview -o $(DEMO_OUT)/render-preview.png --samples 6
-	$(VENV)/bin/vc-train $(DEMO_OUT)/dataset -o $(DEMO_OUT)/run --steps $(DEMO_STEPS)
+	$(VENV)/bin/vc-train $(DEMO_OUT)/renders -o $(DEMO_OUT)/run --steps $(DEMO_STEPS)
 	$(VENV)/bin/vc-export $(DEMO_OUT)/run -o $(DEMO_OUT)/bundle
 	@echo "demo: background $(DEMO_OUT)/background.png, overlay $(DEMO_OUT)/overlay.png," \
 		"samples drawn in $(DEMO_OUT)/render-preview.png, held-out accuracy in $(DEMO_OUT)/run/metrics.json" \
