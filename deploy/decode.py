@@ -27,7 +27,10 @@ UPRIGHT_OFFSETS = np.array([-0.43, -0.45, -0.45, -0.44, -0.44, -0.32, -0.32, -0.
                             0.02, 0.02, 0.25, 0.25, 0.46, 0.46])
 #: Fractions of a person's height: minimum box width, and the margin added around keypoints and mask.
 MIN_WIDTH_FRACTION = 0.25
-SIDE_MARGIN_FRACTION = 0.06
+SIDE_MARGIN_FRACTION = 0.03
+#: A person's mask cells and box reach at most this far from the centre, in person heights (sideways, up/down):
+#: mask blobs and keypoints beyond belong to someone else or to nobody, and must not stretch the box.
+REACH_FRACTION = (0.3, 0.6)
 
 
 @dataclass(frozen=True)
@@ -117,7 +120,9 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
             row, column = np.unravel_index(np.argmax(keypoint_map * prior), keypoint_map.shape)
             keypoints[k, :2] = cells_to_input(_refine(keypoint_map, row, column), stride)
             keypoints[k, 2] = keypoint_map[row, column]
-        mask_cells = foreground & (owner == index)
+        within_reach = ((np.abs(columns - centre_cells[0]) <= REACH_FRACTION[0] * heights_cells[index])
+                        & (np.abs(rows - centre_cells[1]) <= REACH_FRACTION[1] * heights_cells[index]))
+        mask_cells = foreground & (owner == index) & within_reach
         centre = cells_to_input(centre_cells, stride)
         people.append(DecodedPerson(score=score, centre=centre, keypoints=keypoints,
                                     box=_box(centre, heights_px[index], keypoints, mask_cells, config),
@@ -128,7 +133,9 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
 def _box(centre: np.ndarray, height_px: float, keypoints: np.ndarray, mask_cells: np.ndarray,
          config: DecodeConfig) -> np.ndarray:
     """Expected height, centred on the centre; width from confident keypoints and mask (see module docstring)."""
-    xs = list(keypoints[keypoints[:, 2] >= config.keypoint_threshold, 0])
+    confident = keypoints[:, 2] >= config.keypoint_threshold
+    near = np.abs(keypoints[:, 0] - centre[0]) <= REACH_FRACTION[0] * height_px
+    xs = list(keypoints[confident & near, 0])
     if mask_cells.any():
         columns = np.nonzero(mask_cells.any(axis=0))[0]
         xs += list(cells_to_input(np.array([columns[0] - 0.5, columns[-1] + 0.5]), config.stride))

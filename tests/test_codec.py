@@ -107,3 +107,17 @@ def test_the_decoder_needs_neither_torch_nor_mitsuba() -> None:
     code = ("import sys, vc.deploy.decode, vc.deploy.heatmaps; "
             "sys.exit(int(any(m in sys.modules for m in ('torch', 'mitsuba', 'drjit'))))")
     assert subprocess.run([sys.executable, "-c", code], check=False).returncode == 0
+
+
+def test_stray_mask_and_keypoints_beyond_reach_do_not_stretch_the_box():
+    person = _person((60.3, 95.7), 100.0, 1)
+    instances = _instances([person])
+    heatmaps = encode([person], instances, CodecConfig(stride=STRIDE))
+    heights = np.full(heatmaps.shape[1:], 100.0)
+    tidy = decode(heatmaps, DecodeConfig(stride=STRIDE), heights)[0].box
+    heatmaps[MASK_CHANNEL, 20:30, 40:60] = 1.0  # a blob 100+ px to the right: nobody's, or someone undetected
+    heatmaps[1 + 9, 24, 35] = 1.5  # a left wrist far out, stronger than the person's own (a neighbour's)
+    stray = decode(heatmaps, DecodeConfig(stride=STRIDE), heights)[0]
+    assert np.allclose(stray.box, tidy)
+    assert not stray.mask_cells[:, 40:].any()
+    assert tidy[2] - tidy[0] <= 0.6 * 100.0  # a pedestrian's box, not a crowd's
