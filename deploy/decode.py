@@ -1,7 +1,8 @@
 """Heat maps -> people (numpy only: evaluation and the appliance decode identically).
 
 1. People are the local maxima of the centre map above ``centre_threshold`` (3x3 neighbourhood), refined to
-   sub-cell precision by a parabola through each peak and its neighbours.
+   sub-cell precision by a parabola through each peak and its neighbours. A peak closer than
+   :data:`MIN_CENTRE_SEPARATION` expected heights to a stronger one is that person's blurred peak, not another.
 2. Each keypoint is the maximum of its map weighted by a Gaussian prior around where that keypoint sits on an
    upright person (:data:`UPRIGHT_OFFSETS`, scaled by the person's expected height): a neighbour's ankle, even
    if nearer to this centre, loses to this person's own.
@@ -31,6 +32,8 @@ SIDE_MARGIN_FRACTION = 0.03
 #: A person's mask cells and box reach at most this far from the centre, in person heights (sideways, up/down):
 #: mask blobs and keypoints beyond belong to someone else or to nobody, and must not stretch the box.
 REACH_FRACTION = (0.3, 0.6)
+#: Centre peaks closer than this (in person heights) to a stronger one are the same person.
+MIN_CENTRE_SEPARATION = 0.15
 
 
 @dataclass(frozen=True)
@@ -103,6 +106,9 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
         config.default_height_px if expected_height_px is None
         else float(expected_height_px[int(round(y)), int(round(x))]) for x, y in centres_cells])
     heights_cells = heights_px / stride
+    keep = _separated(centres_cells, heights_cells)
+    peaks, centres_cells = [peaks[i] for i in keep], centres_cells[keep]
+    heights_px, heights_cells = heights_px[keep], heights_cells[keep]
 
     # Mask cells go to the nearest centre, distance measured in expected heights.
     distance = np.hypot(columns[None] - centres_cells[:, 0, None, None], rows[None] - centres_cells[:, 1, None, None])
@@ -128,6 +134,17 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
                                     box=_box(centre, heights_px[index], keypoints, mask_cells, config),
                                     mask_cells=mask_cells))
     return people
+
+
+def _separated(centres_cells: np.ndarray, heights_cells: np.ndarray) -> list[int]:
+    """Indices of the peaks (strongest first) that lie at least :data:`MIN_CENTRE_SEPARATION` expected heights
+    from every stronger peak kept: two centres closer than that are one person's blurred peak, not two people."""
+    kept: list[int] = []
+    for index, centre in enumerate(centres_cells):
+        if all(np.hypot(*(centre - centres_cells[other])) >= MIN_CENTRE_SEPARATION * heights_cells[other]
+               for other in kept):
+            kept.append(index)
+    return kept
 
 
 def _box(centre: np.ndarray, height_px: float, keypoints: np.ndarray, mask_cells: np.ndarray,

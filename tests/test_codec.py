@@ -121,3 +121,19 @@ def test_stray_mask_and_keypoints_beyond_reach_do_not_stretch_the_box():
     assert np.allclose(stray.box, tidy)
     assert not stray.mask_cells[:, 40:].any()
     assert tidy[2] - tidy[0] <= 0.6 * 100.0  # a pedestrian's box, not a crowd's
+
+
+def test_a_blurred_double_peak_is_one_person_but_neighbours_stay_two():
+    heights = np.full((HEIGHT // STRIDE, WIDTH // STRIDE), 100.0)
+
+    def people_found(separation_cells: float) -> int:
+        heatmaps = np.zeros((HEATMAP_CHANNELS, *heights.shape), np.float32)
+        for offset, peak in ((0.0, 1.0), (separation_cells, 0.8)):
+            columns = np.arange(heights.shape[1]) - (20 + offset)
+            rows = np.arange(heights.shape[0]) - 24
+            blob = peak * np.exp(-(rows[:, None] ** 2 + columns[None] ** 2) / (2 * 0.6**2))
+            heatmaps[CENTRE_CHANNEL] = np.maximum(heatmaps[CENTRE_CHANNEL], blob)
+        return len(decode(heatmaps, DecodeConfig(stride=STRIDE), heights))
+
+    assert people_found(2.0) == 1  # 8 px apart: 0.08 of a 100 px person
+    assert people_found(8.0) == 2  # 32 px apart: two people side by side
