@@ -1,7 +1,7 @@
 """Reading a ``vc-render`` dataset for training: one region's shards, checked, split, and encoded as targets.
 
-Held-out data is whole shards (the last ``held_out_fraction`` of them, at least one when there are two or more),
-so that evaluation never sees a training sample and the split is the same on every machine.
+Held-out data is whole shards (the last ``held_out_fraction`` of them, at least one; a region needs two shards or
+more), so that evaluation never sees a training sample and the split is the same on every machine.
 
 Training draws windows of the region input (:class:`CropPolicy`); augmentation only adds what the renderer
 cannot vary yet (DESIGN.md): exposure and contrast (until photometric calibration estimates them) and sensor

@@ -25,7 +25,6 @@ from vc.scenes.regions import Region
 from vc.versions import package_versions
 
 DEFAULT_SHARD_SIZE = 100
-#: Packages whose versions change the rendered bytes.
 
 
 @dataclass(frozen=True)

@@ -1,7 +1,9 @@
-"""What every command shares: the bad-input contract (one line, exit status 2) and logging set-up."""
+"""What every command shares: the bad-input contract (one line, exit status 2), logging set-up and argument
+types."""
 
 from __future__ import annotations
 
+import argparse
 import functools
 import logging
 import sys
@@ -26,3 +28,22 @@ def handles_input_errors(main: Callable[[list[str] | None], int]) -> Callable[[l
             return 130
 
     return wrapper
+
+
+def _whole_number(minimum: int):
+    """An argparse type: a whole number of at least ``minimum``."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"must be at least {minimum}, got {value}")
+        return value
+
+    return parse
+
+
+positive_int = _whole_number(1)
+non_negative_int = _whole_number(0)

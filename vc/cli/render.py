@@ -17,7 +17,7 @@ import sys
 from pathlib import Path
 
 from vc import __version__
-from vc.cli.common import handles_input_errors
+from vc.cli.common import handles_input_errors, non_negative_int, positive_int
 from vc.errors import InputError
 from vc.io import write_image
 from vc.render.effects import EffectDecision, effect_on, plan_effects
@@ -26,25 +26,6 @@ from vc.scenes.loader import Scene, load_scene
 from vc.scenes.regions import Region, plan_regions
 
 PREVIEW_SAMPLES = 9
-
-
-def _whole_number(minimum: int):
-    """An argparse type: a whole number of at least ``minimum``."""
-
-    def parse(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
-        if value < minimum:
-            raise argparse.ArgumentTypeError(f"must be at least {minimum}, got {value}")
-        return value
-
-    return parse
-
-
-positive_int = _whole_number(1)
-non_negative_int = _whole_number(0)
 
 
 def _parser() -> argparse.ArgumentParser:

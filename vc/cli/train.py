@@ -16,8 +16,7 @@ import json
 from pathlib import Path
 
 from vc import __version__
-from vc.cli.common import handles_input_errors
-from vc.cli.render import positive_int
+from vc.cli.common import handles_input_errors, non_negative_int, positive_int
 from vc.deploy.metrics import Evaluation
 from vc.errors import InputError
 from vc.io import write_json
@@ -45,7 +44,7 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--batch-size", type=positive_int, default=defaults.batch_size,
                         help=f"images per step (default {defaults.batch_size})")
     parser.add_argument("--seed", type=int, default=defaults.seed, help="seed of weights and data order")
-    parser.add_argument("--workers", type=int, default=1, help="data-loading processes (default 1)")
+    parser.add_argument("--workers", type=non_negative_int, default=1, help="data-loading processes (default 1)")
     parser.add_argument("--quiet", action="store_true", help="no progress bars")
     return parser
 
@@ -96,7 +95,7 @@ def main(argv: list[str] | None = None) -> int:
     results = []
     for name in regions:
         data = open_region(args.dataset, name, config.held_out_fraction)
-        trainer = RegionTrainer(data, config, args.output, args.dataset, device, max(args.workers, 0),
+        trainer = RegionTrainer(data, config, args.output, args.dataset, device, args.workers,
                                 show_progress=not args.quiet)
         trainer.train()
         results.append(trainer.evaluate())
