@@ -41,6 +41,7 @@ class RegionEntry:
     owned_image_area: dict  # GeoJSON (Multi)Polygon in frame pixels: detections whose foot falls here are kept
     model: bytes  # the ONNX model
     expected_height_px: np.ndarray  # (h, w) per heat-map cell
+    precision: str  # fp32, fp16 or int8
 
 
 @dataclass(frozen=True)
@@ -132,7 +133,8 @@ def load_bundle(path: str | Path) -> Bundle:
             crop_window=tuple(_require(entry, "crop_window", list, where, path)),
             input_size=tuple(_require(entry, "input_size", list, where, path)),
             decode=decode, owned_image_area=_require(entry, "owned_image_area", dict, where, path),
-            model=model, expected_height_px=heights))
+            model=model, expected_height_px=heights,
+            precision=_require(entry, "precision", str, where, path)))
     if not regions:
         raise InputError(path, f"{MANIFEST}: regions", "the bundle has no regions")
     return Bundle(path, manifest, regions)

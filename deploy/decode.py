@@ -5,7 +5,7 @@
    :data:`MIN_CENTRE_SEPARATION` expected heights to a stronger one is that person's blurred peak, not another.
 2. Each keypoint is the maximum of its map weighted by a Gaussian prior around where that keypoint sits on an
    upright person (:data:`UPRIGHT_OFFSETS`, scaled by the person's expected height): a neighbour's ankle, even
-   if nearer to this centre, loses to this person's own.
+   if nearer to this centre, loses to this person's own. At most ``max_people`` peaks are decoded.
 3. The mask cells above ``mask_threshold`` go to the nearest centre (in units of expected height).
 4. The box is scene-specific: its height is the expected height of a person at that image position (the region's
    camera knows it; ``expected_height_px``), centred on the centre peak (the point half the stature above the
@@ -44,6 +44,7 @@ class DecodeConfig:
     mask_threshold: float = 0.5
     search_sigma: float = 0.25  # width of a keypoint's prior around its upright position, in person heights
     default_height_px: float = 80.0  # expected height when no map of it is given
+    max_people: int = 100  # the strongest centre peaks decoded; bounds the time a noisy frame can take
 
 
 @dataclass
@@ -69,8 +70,9 @@ def _refine(heatmap: np.ndarray, row: int, column: int) -> np.ndarray:
     return np.array([column + offsets[0], row + offsets[1]])
 
 
-def find_peaks(heatmap: np.ndarray, threshold: float) -> list[tuple[float, np.ndarray]]:
-    """(value, (x, y) in cells) of the local maxima above ``threshold``, strongest first.
+def find_peaks(heatmap: np.ndarray, threshold: float, limit: int | None = None) -> list[tuple[float, np.ndarray]]:
+    """(value, (x, y) in cells) of the (at most ``limit`` strongest) local maxima above ``threshold``, strongest
+    first.
 
     A peak is at least as high as its 8 neighbours and strictly higher than the 4 that come before it in
     reading order, so a plateau of equal values yields its first cell only.
@@ -87,7 +89,7 @@ def find_peaks(heatmap: np.ndarray, threshold: float) -> list[tuple[float, np.nd
     for dy, dx in ((0, 1), (1, -1), (1, 0), (1, 1)):
         is_peak &= heatmap >= neighbour(dy, dx)
     rows, columns = np.nonzero(is_peak)
-    order = np.argsort(-heatmap[rows, columns], kind="stable")
+    order = np.argsort(-heatmap[rows, columns], kind="stable")[:limit]
     return [(float(heatmap[rows[i], columns[i]]), _refine(heatmap, rows[i], columns[i])) for i in order]
 
 
@@ -97,7 +99,7 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     whose centre is at each cell, from the region's camera; None falls back to ``config.default_height_px``."""
     stride = config.stride
     _, height, width = heatmaps.shape
-    peaks = find_peaks(heatmaps[CENTRE_CHANNEL], config.centre_threshold)
+    peaks = find_peaks(heatmaps[CENTRE_CHANNEL], config.centre_threshold, config.max_people)
     if not peaks:
         return []
     rows, columns = np.indices((height, width))
@@ -118,14 +120,7 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     people = []
     keypoint_maps = heatmaps[KEYPOINT_CHANNELS]
     for index, (score, centre_cells) in enumerate(peaks):
-        prior_sigma = config.search_sigma * heights_cells[index]
-        keypoints = np.zeros((keypoint_maps.shape[0], 3))
-        for k, keypoint_map in enumerate(keypoint_maps):
-            expected_row = centre_cells[1] + UPRIGHT_OFFSETS[k] * heights_cells[index]
-            prior = np.exp(-((columns - centre_cells[0]) ** 2 + (rows - expected_row) ** 2) / (2.0 * prior_sigma**2))
-            row, column = np.unravel_index(np.argmax(keypoint_map * prior), keypoint_map.shape)
-            keypoints[k, :2] = cells_to_input(_refine(keypoint_map, row, column), stride)
-            keypoints[k, 2] = keypoint_map[row, column]
+        keypoints = _keypoints(keypoint_maps, centre_cells, heights_cells[index], config)
         within_reach = ((np.abs(columns - centre_cells[0]) <= REACH_FRACTION[0] * heights_cells[index])
                         & (np.abs(rows - centre_cells[1]) <= REACH_FRACTION[1] * heights_cells[index]))
         mask_cells = foreground & (owner == index) & within_reach
@@ -136,13 +131,43 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     return people
 
 
+def _keypoints(keypoint_maps: np.ndarray, centre_cells: np.ndarray, height_cells: float,
+               config: DecodeConfig) -> np.ndarray:
+    """(17, 3) keypoints of the person at ``centre_cells``: each the maximum of its map times the upright prior.
+
+    The search covers the cells within 3 prior widths of the expected position (beyond that the prior is below
+    1 %), which keeps a person's cost independent of the region's size.
+    """
+    sigma = config.search_sigma * height_cells
+    reach = int(np.ceil(3.0 * sigma))
+    _, height, width = keypoint_maps.shape
+    x0, x1 = max(int(round(centre_cells[0])) - reach, 0), min(int(round(centre_cells[0])) + reach + 1, width)
+    keypoints = np.zeros((keypoint_maps.shape[0], 3))
+    if x0 >= x1:
+        return keypoints
+    columns = np.arange(x0, x1)
+    prior_x = np.exp(-(columns - centre_cells[0]) ** 2 / (2.0 * sigma**2))
+    for k, keypoint_map in enumerate(keypoint_maps):
+        expected_row = centre_cells[1] + UPRIGHT_OFFSETS[k] * height_cells
+        y0, y1 = max(int(round(expected_row)) - reach, 0), min(int(round(expected_row)) + reach + 1, height)
+        if y0 >= y1:  # the expected position is off the map: nothing of this keypoint can be seen
+            continue
+        rows = np.arange(y0, y1)
+        prior = np.exp(-(rows - expected_row) ** 2 / (2.0 * sigma**2))[:, None] * prior_x[None, :]
+        window = keypoint_map[y0:y1, x0:x1]
+        row, column = np.unravel_index(np.argmax(window * prior), window.shape)
+        keypoints[k, :2] = cells_to_input(_refine(keypoint_map, y0 + row, x0 + column), config.stride)
+        keypoints[k, 2] = window[row, column]
+    return keypoints
+
+
 def _separated(centres_cells: np.ndarray, heights_cells: np.ndarray) -> list[int]:
     """Indices of the peaks (strongest first) that lie at least :data:`MIN_CENTRE_SEPARATION` expected heights
     from every stronger peak kept: two centres closer than that are one person's blurred peak, not two people."""
     kept: list[int] = []
     for index, centre in enumerate(centres_cells):
-        if all(np.hypot(*(centre - centres_cells[other])) >= MIN_CENTRE_SEPARATION * heights_cells[other]
-               for other in kept):
+        distances = np.hypot(*(centre - centres_cells[kept]).T) if kept else np.empty(0)
+        if np.all(distances >= MIN_CENTRE_SEPARATION * heights_cells[kept]):
             kept.append(index)
     return kept
 

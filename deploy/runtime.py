@@ -23,19 +23,34 @@ from vc.errors import InputError
 
 @dataclass
 class Person:
-    """One detected person in frame pixels (pixel centres at integers)."""
+    """One detected person in frame pixels (pixel centres at integers).
+
+    The mask is kept small: ``mask`` covers only the frame pixels ``mask_origin`` (x, y) + its shape, the bounding
+    rectangle of the person's mask; :meth:`frame_mask` pastes it into a full frame.
+    """
 
     region: str
     score: float
     box: np.ndarray  # (4,) x0, y0, x1, y1 (outer edges)
     keypoints: np.ndarray  # (17, 3) x, y, confidence
-    mask: np.ndarray  # (H, W) bool over the frame
+    mask: np.ndarray  # (h, w) bool
+    mask_origin: tuple[int, int]  # frame pixel (x, y) of mask[0, 0]
+
+    def frame_mask(self, frame_size: tuple[int, int]) -> np.ndarray:
+        """The mask as an (H, W) bool array over a frame of ``frame_size`` (width, height)."""
+        width, height = frame_size
+        full = np.zeros((height, width), bool)
+        x, y = self.mask_origin
+        full[y:y + self.mask.shape[0], x:x + self.mask.shape[1]] = self.mask
+        return full
 
     def to_dict(self) -> dict:
+        """JSON-ready: box, score, keypoints and the mask's pixel area (masks stay out of JSON Lines)."""
         return {"region": self.region, "score": round(float(self.score), 4),
                 "box": [round(float(v), 2) for v in self.box],
                 "keypoints": [[round(float(x), 2), round(float(y), 2), round(float(c), 4)]
-                              for x, y, c in self.keypoints]}
+                              for x, y, c in self.keypoints],
+                "mask_area_px": int(self.mask.sum())}
 
 
 def _inside(points: np.ndarray, ring: np.ndarray) -> np.ndarray:
@@ -99,19 +114,28 @@ class RegionRunner:
     def _person(self, person: DecodedPerson, box: np.ndarray) -> Person:
         keypoints = person.keypoints.copy()
         keypoints[:, :2] = self.to_frame(keypoints[:, :2])
-        return Person(self.entry.name, person.score, box, keypoints, self._frame_mask(person.mask_cells))
+        mask, origin = self._frame_mask(person.mask_cells)
+        return Person(self.entry.name, person.score, box, keypoints, mask, origin)
 
-    def _frame_mask(self, mask_cells: np.ndarray) -> np.ndarray:
-        """Cells -> frame pixels: each frame pixel in the crop takes the cell its centre falls in."""
-        width, height = self.frame_size
-        mask = np.zeros((height, width), bool)
+    def _frame_mask(self, mask_cells: np.ndarray) -> tuple[np.ndarray, tuple[int, int]]:
+        """Cells -> frame pixels over the mask's bounding rectangle: each frame pixel of the crop takes the cell
+        its centre falls in. Returns the mask and the frame pixel of its top-left corner."""
         x0, y0, crop_width, crop_height = self.entry.crop_window
         stride = self.entry.decode.stride
-        columns = ((np.arange(crop_width) + 0.5) * self.scale[0] / stride).astype(int)
-        rows = ((np.arange(crop_height) + 0.5) * self.scale[1] / stride).astype(int)
-        rows, columns = np.minimum(rows, mask_cells.shape[0] - 1), np.minimum(columns, mask_cells.shape[1] - 1)
-        mask[y0:y0 + crop_height, x0:x0 + crop_width] = mask_cells[np.ix_(rows, columns)]
-        return mask
+        columns = np.minimum(((np.arange(crop_width) + 0.5) * self.scale[0] / stride).astype(int),
+                             mask_cells.shape[1] - 1)
+        rows = np.minimum(((np.arange(crop_height) + 0.5) * self.scale[1] / stride).astype(int),
+                          mask_cells.shape[0] - 1)
+        cell_rows, cell_columns = np.nonzero(mask_cells)
+        if not len(cell_rows):
+            return np.zeros((0, 0), bool), (x0, y0)
+        # Crop pixels whose cell lies in the mask's cell rectangle (rows and columns are sorted).
+        first_x = np.searchsorted(columns, cell_columns.min())
+        last_x = np.searchsorted(columns, cell_columns.max(), "right")
+        first_y = np.searchsorted(rows, cell_rows.min())
+        last_y = np.searchsorted(rows, cell_rows.max(), "right")
+        mask = mask_cells[np.ix_(rows[first_y:last_y], columns[first_x:last_x])]
+        return mask, (x0 + int(first_x), y0 + int(first_y))
 
 
 class Runtime:

@@ -9,6 +9,7 @@ the input, nor penalised for finding them.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -17,8 +18,7 @@ from tqdm import tqdm
 
 from vc.deploy.decode import DecodeConfig, DecodedPerson, decode
 from vc.deploy.metrics import Evaluation, ImageResult, evaluate
-from vc.model.codec import CodecConfig
-from vc.model.data import Sample, load_sample
+from vc.model.data import Sample, read_sample
 from vc.model.network import ScenePoseNet
 
 #: Fraction of a person's full height that must be visible for the evaluation to ask for them.
@@ -66,23 +66,40 @@ class RegionEvaluation:
     images: list[ImageResult]
 
 
+#: Heat maps of a batch of region inputs: (N, H, W, 3) uint8 RGB -> (N, 19, h, w) float.
+HeatmapSource = Callable[[np.ndarray], np.ndarray]
+
+
+def evaluate_source(heatmaps_of: HeatmapSource, samples: list[Sample], decode_config: DecodeConfig,
+                    expected_height_px: np.ndarray, show_progress: bool = True,
+                    description: str = "evaluate") -> RegionEvaluation:
+    """Score any source of heat maps (a PyTorch network, an onnxruntime session) on whole held-out inputs,
+    decoded as deployment decodes them."""
+    results: list[ImageResult] = []
+    with tqdm(total=len(samples), desc=description, unit="img", disable=not show_progress, leave=False) as bar:
+        for start in range(0, len(samples), EVALUATION_BATCH):
+            batch = samples[start:start + EVALUATION_BATCH]
+            images, instances = zip(*(read_sample(sample) for sample in batch), strict=True)
+            for sample, mask, maps in zip(batch, instances, heatmaps_of(np.stack(images)), strict=True):
+                people = decode(maps, decode_config, expected_height_px)
+                results.append(image_result(sample.annotations, mask, people, decode_config.stride))
+            bar.update(len(batch))
+    return RegionEvaluation(evaluate(results), results)
+
+
 @torch.no_grad()
-def evaluate_network(net: ScenePoseNet, samples: list[Sample], codec: CodecConfig, decode_config: DecodeConfig,
+def evaluate_network(net: ScenePoseNet, samples: list[Sample], decode_config: DecodeConfig,
                      expected_height_px: np.ndarray, device: torch.device, show_progress: bool = True,
                      description: str = "evaluate") -> RegionEvaluation:
     """Run ``net`` on whole held-out inputs, decode as deployment does and score the result."""
     was_training = net.training
     net.eval()
-    results: list[ImageResult] = []
-    with tqdm(total=len(samples), desc=description, unit="img", disable=not show_progress, leave=False) as bar:
-        for start in range(0, len(samples), EVALUATION_BATCH):
-            batch = [load_sample(sample, codec) for sample in samples[start:start + EVALUATION_BATCH]]
-            images = torch.from_numpy(np.stack([image.transpose(2, 0, 1) for image, _, _ in batch])).to(device)
-            heatmaps = net(images)["heatmaps"].float().cpu().numpy()
-            for sample, (_, instances, _), maps in zip(samples[start:start + EVALUATION_BATCH], batch, heatmaps,
-                                                       strict=True):
-                people = decode(maps, decode_config, expected_height_px)
-                results.append(image_result(sample.annotations, instances, people, codec.stride))
-            bar.update(len(batch))
-    net.train(was_training)
-    return RegionEvaluation(evaluate(results), results)
+
+    def heatmaps_of(images: np.ndarray) -> np.ndarray:
+        batch = torch.from_numpy(images).to(device).permute(0, 3, 1, 2).float() / 255.0
+        return net(batch)["heatmaps"].float().cpu().numpy()
+
+    try:
+        return evaluate_source(heatmaps_of, samples, decode_config, expected_height_px, show_progress, description)
+    finally:
+        net.train(was_training)

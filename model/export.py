@@ -11,8 +11,6 @@ from __future__ import annotations
 
 import io
 import json
-import shutil
-import tempfile
 import warnings
 import zipfile
 from dataclasses import asdict
@@ -27,10 +25,12 @@ from torch import Tensor, nn
 from vc.calibration.camera import camera_from_dict
 from vc.deploy.bundle import BUNDLE_FORMAT, BUNDLE_FORMAT_VERSION, MANIFEST, MODELS, sha256
 from vc.errors import InputError
-from vc.io import atomic_path
+from vc.io import atomic_directory, atomic_path
 from vc.keypoints import COCO_KEYPOINTS, COCO_SKELETON_1BASED
 from vc.model.codec import expected_height_map
+from vc.model.data import RegionData, open_region
 from vc.model.network import ScenePoseNet
+from vc.model.precision import choose_precision
 from vc.model.train import Checkpoint, TrainConfig, load_checkpoint
 from vc.versions import package_versions
 
@@ -105,8 +105,30 @@ def network_from_checkpoint(checkpoint: Checkpoint) -> ScenePoseNet:
     return net.eval()
 
 
-def bundle_files(run: Path) -> tuple[dict, dict[str, bytes]]:
-    """The manifest and the files (relative name -> bytes) of the bundle of a finished run."""
+def _evenly_spaced(samples: list, count: int) -> list:
+    """``count`` samples spread over the whole list (shards differ: one per stretch of the dataset)."""
+    if count >= len(samples):
+        return list(samples)
+    return [samples[int(i)] for i in np.linspace(0, len(samples) - 1, count).round()]
+
+
+def _region_data(checkpoint: Checkpoint, config: TrainConfig) -> RegionData:
+    dataset = Path(checkpoint.content["dataset"])
+    try:
+        return open_region(dataset, checkpoint.content["region"], config.held_out_fraction)
+    except InputError as error:
+        raise InputError(checkpoint.path, "dataset", f"measuring or calibrating precisions needs the dataset the "
+                                                     f"region was trained on, {dataset}: {error}") from None
+
+
+def bundle_files(run: Path, precision: str = "fp32", eval_samples: int = 200, calibration_samples: int = 64,
+                 show_progress: bool = False) -> tuple[dict, dict[str, bytes]]:
+    """The manifest and the files (relative name -> bytes) of the bundle of a finished run.
+
+    Every region is exported at fp32, converted to each precision and measured on up to ``eval_samples``
+    held-out renders (0: no measurement; then only ``precision`` is built); the model kept is ``precision``'s
+    (``auto``: per region, int8 where it holds, see :func:`vc.model.precision.auto_precision`).
+    """
     checkpoints = _finished_checkpoints(run)
     first = checkpoints[0].content
     files: dict[str, bytes] = {}
@@ -116,26 +138,34 @@ def bundle_files(run: Path) -> tuple[dict, dict[str, bytes]]:
         config = TrainConfig.from_dict(content["train_config"])
         entry = content["region_entry"]
         crop_window = [int(v) for v in entry["crop_window"]]
-        input_size = tuple(int(v) for v in entry["input_size"])
+        crop_size, input_size = (crop_window[2], crop_window[3]), tuple(int(v) for v in entry["input_size"])
         model_name, heights_name = f"{MODELS}/{name}.onnx", f"{MODELS}/{name}.heights.npy"
-        files[model_name] = export_onnx(network_from_checkpoint(checkpoint), (crop_window[2], crop_window[3]),
-                                        input_size, {"scene": content["scene"], "region": name,
-                                                     "network": config.network.to_dict()})
+        fp32 = export_onnx(network_from_checkpoint(checkpoint), crop_size, input_size,
+                           {"scene": content["scene"], "region": name, "network": config.network.to_dict()})
         heights = expected_height_map(camera_from_dict(entry["camera"]), config.codec.stride,
                                       content["reference_height_m"])
-        files[heights_name] = _npy_bytes(heights)
+        needs_data = eval_samples > 0 or precision in ("int8", "auto")
+        data = _region_data(checkpoint, config) if needs_data else None
+        choice = choose_precision(
+            fp32, precision, _evenly_spaced(data.train, calibration_samples) if data else [],
+            _evenly_spaced(data.held_out, eval_samples) if data and eval_samples > 0 else [],
+            crop_size, config.decode, heights, show_progress, name)
+        files[model_name], files[heights_name] = choice.model, _npy_bytes(heights)
         regions.append({
             "name": name, "crop_window": crop_window, "input_size": list(input_size),
             "output_stride": config.codec.stride, "decode": asdict(config.decode),
             "ground_polygon": entry["ground_polygon"], "owned_image_area": entry["owned_image_area"],
             "reference_height_m": content["reference_height_m"], "network": config.network.to_dict(),
+            "precision": choice.precision, "held_out_accuracy": choice.accuracy,
             "model": model_name, "model_sha256": sha256(files[model_name]),
             "expected_height": heights_name, "expected_height_sha256": sha256(files[heights_name]),
         })
+    precisions = sorted({region["precision"] for region in regions})
     manifest = {
         "format": BUNDLE_FORMAT, "format_version": BUNDLE_FORMAT_VERSION, "scene": first["scene"],
         "scene_hash": first["scene_hash"], "camera": first["scene_camera"],
-        "frame_size": first["scene_camera"]["size"], "precision": "fp32",
+        "frame_size": first["scene_camera"]["size"],
+        "precision": precisions[0] if len(precisions) == 1 else "mixed",
         "input": {"name": INPUT_NAME, "dtype": "uint8", "layout": "NHWC RGB, the region's crop window of the frame"},
         "output": {"name": OUTPUT_NAME, "channels": ["centre", *COCO_KEYPOINTS, "mask"]},
         "keypoints": list(COCO_KEYPOINTS), "skeleton": [list(pair) for pair in COCO_SKELETON_1BASED],
@@ -152,14 +182,7 @@ def write_bundle(manifest: dict, files: dict[str, bytes], output: Path, as_zip: 
             for name, data in documents.items():
                 archive.writestr(name, data)
         return
-    output.parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=f".{output.name}.", dir=output.parent))
-    try:
+    with atomic_directory(output) as staging:
         for name, data in documents.items():
             (staging / name).parent.mkdir(parents=True, exist_ok=True)
             (staging / name).write_bytes(data)
-        if output.exists():
-            shutil.rmtree(output)
-        staging.rename(output)
-    finally:
-        shutil.rmtree(staging, ignore_errors=True)

@@ -273,7 +273,7 @@ class RegionTrainer:
         """Held-out accuracy, and the precision-recall and loss curves under ``run/<region>/``."""
         camera = camera_from_dict(self.data.region["camera"])
         heights = expected_height_map(camera, self.config.codec.stride, self.reference_height_m)
-        evaluation = evaluate_network(self.net, self.data.held_out, self.config.codec, self.config.decode,
+        evaluation = evaluate_network(self.net, self.data.held_out, self.config.decode,
                                       heights, self.device, self.show_progress, f"evaluate {self.data.name}")
         folder = self.run / self.data.name
         plot_precision_recall({"held-out synthetic": evaluation.evaluation}, folder / "precision_recall.png",

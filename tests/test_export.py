@@ -12,6 +12,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
+import onnx
 import onnxruntime as ort
 import pytest
 import torch
@@ -26,6 +27,7 @@ from vc.model.config import network_config
 from vc.model.data import open_region
 from vc.model.export import DeployedNetwork, bundle_files, export_onnx
 from vc.model.network import ScenePoseNet
+from vc.model.precision import auto_precision, to_fp16, to_int8
 from vc.model.train import RegionTrainer, for_network
 
 SMALL = replace(network_config("fast"), name="small", width=16, residual_units=1, sb_reduction=2)
@@ -162,3 +164,74 @@ def test_an_unfinished_run_is_not_exported(tmp_path, capsys):
 def test_bundle_files_refuse_an_empty_run(tmp_path):
     with pytest.raises(InputError, match="no checkpoints"):
         bundle_files(tmp_path)
+
+
+def _heatmaps(model: bytes, crops: np.ndarray) -> np.ndarray:
+    session = ort.InferenceSession(model, providers=["CPUExecutionProvider"])
+    return np.concatenate([session.run(None, {"crop": crop[None]})[0] for crop in crops])
+
+
+def test_int8_and_fp16_models_stay_close_to_fp32(tmp_path):
+    data = open_region(write_dataset(tmp_path / "dataset"), "r0")
+    model = export_onnx(_trained_network(), INPUT_SIZE, INPUT_SIZE, {})
+    crops = np.stack([sample(region_camera(), index, seed=7).image for index in range(3)])
+    reference = _heatmaps(model, crops)
+    int8 = to_int8(model, data.train[:8], INPUT_SIZE)
+    assert any(node.op_type == "QuantizeLinear" for node in onnx.load_from_string(int8).graph.node)
+    fp16 = to_fp16(model)
+    assert any(init.data_type == onnx.TensorProto.FLOAT16 for init in onnx.load_from_string(fp16).graph.initializer)
+    spread = reference.max() - reference.min()
+    assert np.abs(_heatmaps(fp16, crops) - reference).max() <= 2e-3 * spread
+    assert np.abs(_heatmaps(int8, crops) - reference).mean() <= 0.05 * spread
+
+
+def test_auto_keeps_int8_only_where_it_holds():
+    fp32 = {"ap50": 0.95, "pckh": 0.80}
+    assert auto_precision({"fp32": fp32, "int8": {"ap50": 0.945, "pckh": 0.79}}) == "int8"
+    assert auto_precision({"fp32": fp32, "int8": {"ap50": 0.93, "pckh": 0.80}}) == "fp32"
+    assert auto_precision({"fp32": fp32, "int8": {"ap50": 0.95, "pckh": 0.70}}) == "fp32"
+
+
+def test_an_int8_bundle_records_every_precision_and_runs(trained_run, tmp_path):
+    output = tmp_path / "bundle"
+    assert vc_export([str(trained_run), "-o", str(output), "--precision", "int8", "--eval-samples", "8",
+                      "--calibration-samples", "4", "--quiet"]) == 0
+    manifest = json.loads((output / "manifest.json").read_text())
+    region = manifest["regions"][0]
+    assert manifest["precision"] == region["precision"] == "int8"
+    assert set(region["held_out_accuracy"]) == {"fp32", "fp16", "int8"}
+    assert region["held_out_accuracy"]["int8"]["ground_truth"] > 0
+    runtime = Runtime(output, threads=1)
+    assert runtime.runners[0].entry.precision == "int8"
+    assert isinstance(runtime(sample(region_camera(), 0).image), list)
+
+
+def test_int8_without_the_training_dataset_is_refused(trained_run, tmp_path, capsys):
+    run = Path(shutil.copytree(trained_run, tmp_path / "run"))
+    checkpoint = torch.load(run / "checkpoints" / "r0.pt", weights_only=False)
+    checkpoint["dataset"] = str(tmp_path / "moved")
+    torch.save(checkpoint, run / "checkpoints" / "r0.pt")
+    assert vc_export([str(run), "-o", str(tmp_path / "bundle"), "--precision", "int8"]) == 2
+    assert "needs the dataset the region was trained on" in capsys.readouterr().err
+    assert not (tmp_path / "bundle").exists()
+
+
+def test_export_into_an_impossible_folder_is_an_input_error(trained_run, tmp_path, capsys):
+    (tmp_path / "file").write_text("")
+    assert vc_export([str(trained_run), "-o", str(tmp_path / "file" / "bundle"), "--eval-samples", "0"]) == 2
+    assert "cannot create output folder" in capsys.readouterr().err
+
+
+def test_masks_map_cells_to_the_frame_pixels_they_cover(bundle):
+    runner = Runtime(bundle, threads=1).runners[0]
+    stride = runner.entry.decode.stride
+    cells = np.zeros((INPUT_SIZE[1] // stride, INPUT_SIZE[0] // stride), bool)
+    cells[3:9, 10:14] = True
+    cells[5, 20] = True
+    mask, (x0, y0) = runner._frame_mask(cells)
+    frame = np.zeros((INPUT_SIZE[1], INPUT_SIZE[0]), bool)
+    frame[y0:y0 + mask.shape[0], x0:x0 + mask.shape[1]] = mask
+    rows, columns = np.indices(frame.shape)
+    cell_of_pixel = cells[np.minimum(rows // stride, cells.shape[0] - 1), np.minimum(columns // stride,
+                                                                                     cells.shape[1] - 1)]
+    assert np.array_equal(frame, cell_of_pixel) and mask.shape == (6 * stride, 11 * stride)

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from vc.errors import InputError
-from vc.io import atomic_path, image_size, read_image, write_image, write_json
+from vc.io import atomic_directory, atomic_path, image_size, read_image, write_image, write_json
 
 
 def test_image_round_trip_is_exact(tmp_path):
@@ -39,3 +39,24 @@ def test_unreadable_images_are_input_errors(tmp_path):
         read_image(tmp_path / "bad.png")
     with pytest.raises(InputError, match="image file not found"):
         image_size(tmp_path / "absent.png")
+
+
+def test_a_failed_folder_write_keeps_the_old_folder_and_leaves_no_staging(tmp_path):
+    output = tmp_path / "bundle"
+    with atomic_directory(output) as staging:
+        (staging / "a.txt").write_text("old")
+    with pytest.raises(RuntimeError), atomic_directory(output) as staging:
+        (staging / "a.txt").write_text("new")
+        raise RuntimeError("crash half-way")
+    assert (output / "a.txt").read_text() == "old"
+    assert [path.name for path in tmp_path.iterdir()] == ["bundle"]
+    with atomic_directory(output) as staging:
+        (staging / "b.txt").write_text("new")
+    assert sorted(path.name for path in output.iterdir()) == ["b.txt"]
+
+
+def test_a_folder_under_a_file_is_an_input_error(tmp_path):
+    (tmp_path / "file").write_text("")
+    with pytest.raises(InputError, match="cannot create output folder"), \
+            atomic_directory(tmp_path / "file" / "bundle"):
+        pass

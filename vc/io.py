@@ -10,6 +10,7 @@ import atexit
 import contextlib
 import json
 import os
+import shutil
 import sys
 import tempfile
 from collections.abc import Iterator
@@ -53,6 +54,27 @@ def atomic_path(destination: str | Path) -> Iterator[Path]:
         os.replace(temporary_path, destination)
     finally:
         temporary_path.unlink(missing_ok=True)
+
+
+@contextlib.contextmanager
+def atomic_directory(destination: str | Path) -> Iterator[Path]:
+    """Yield a staging folder beside ``destination``; it replaces ``destination`` only if the block succeeds, so a
+    reader sees the old folder or the complete new one, never a half-written one."""
+    destination = Path(destination)
+    try:
+        destination.parent.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(prefix=f".{destination.name}.", suffix=".tmp", dir=destination.parent))
+    except OSError as error:
+        raise InputError(destination.parent, "", f"cannot create output folder ({error.strerror})") from None
+    try:
+        yield staging
+        if destination.is_dir() and not destination.is_symlink():
+            shutil.rmtree(destination)
+        elif destination.exists():
+            raise InputError(destination, "", "exists and is not a folder")
+        staging.rename(destination)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
 
 
 def write_json(destination: str | Path, data: object) -> None:

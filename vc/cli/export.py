@@ -1,12 +1,15 @@
 """``vc-export``: a finished ``vc-train`` run as a bundle an appliance embeds.
 
-    vc-export RUN -o BUNDLE [--zip]
+    vc-export RUN -o BUNDLE [--precision fp32|fp16|int8|auto] [--eval-samples N] [--zip]
 
 Writes ``BUNDLE/manifest.json`` (format version, scene and its hash, the frame camera, keypoint names and skeleton,
 package versions, and per region: crop window, input size, ground polygon, owned image area, decode parameters,
-model and expected-height map with their SHA-256) and ``BUNDLE/models/<region>.onnx`` (uint8 crop in, heat maps
-out, opset 17), or one zip of the same with ``--zip``. The bundle appears complete or not at all. It is then
-loaded back through the runtime's own validation. Bad input prints one ``error:`` line and exits with status 2.
+precision, held-out accuracy of every precision, model and expected-height map with their SHA-256) and
+``BUNDLE/models/<region>.onnx`` (uint8 crop in, heat maps out, opset 17), or one zip of the same with ``--zip``.
+Each region is measured at fp32, fp16 and int8 (static quantization calibrated on its training renders) on its
+held-out renders; ``auto`` keeps int8 where it holds and fp32 elsewhere. The bundle appears complete or not at
+all, and is loaded back through the runtime's own validation. Bad input prints one ``error:`` line and exits
+with status 2.
 """
 
 from __future__ import annotations
@@ -15,9 +18,10 @@ import argparse
 from pathlib import Path
 
 from vc import __version__
-from vc.cli.common import handles_input_errors
+from vc.cli.common import handles_input_errors, non_negative_int, positive_int
 from vc.deploy.bundle import load_bundle
 from vc.model.export import bundle_files, write_bundle
+from vc.model.precision import PRECISIONS
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -25,21 +29,48 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     parser.add_argument("run", type=Path, help="a vc-train run folder")
     parser.add_argument("-o", "--output", type=Path, required=True, help="bundle folder (or .zip with --zip)")
+    parser.add_argument("--precision", choices=[*PRECISIONS, "auto"], default="fp32",
+                        help="model precision (default fp32; auto: int8 where held-out accuracy holds)")
+    parser.add_argument("--eval-samples", type=non_negative_int, default=200,
+                        help="held-out renders per region to measure each precision on (default 200; 0: skip)")
+    parser.add_argument("--calibration-samples", type=positive_int, default=64,
+                        help="training renders per region that calibrate int8 (default 64)")
     parser.add_argument("--zip", action="store_true", help="write one zip file instead of a folder")
+    parser.add_argument("--quiet", action="store_true", help="no progress bars")
     return parser
+
+
+def _accuracy_table(manifest: dict) -> list[str]:
+    lines = []
+    for region in manifest["regions"]:
+        accuracy = region["held_out_accuracy"]
+        if not accuracy:
+            continue
+        reference = accuracy["fp32"]
+        cells = []
+        for precision, result in accuracy.items():
+            delta = "" if precision == "fp32" else f" ({result['ap50'] - reference['ap50']:+.3f})"
+            kept = "*" if precision == region["precision"] else ""
+            cells.append(f"{precision}{kept} AP50 {result['ap50']:.3f}{delta} PCKh {result['pckh'] or 0:.3f}")
+        lines.append(f"  {region['name']} held-out: " + ", ".join(cells))
+    return lines
 
 
 @handles_input_errors
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
-    manifest, files = bundle_files(args.run)
+    manifest, files = bundle_files(args.run, args.precision, args.eval_samples, args.calibration_samples,
+                                   show_progress=not args.quiet)
     write_bundle(manifest, files, args.output, args.zip)
     bundle = load_bundle(args.output)
     size = sum(len(data) for data in files.values())
     print(f"vc-export: {len(bundle.regions)} region(s) of scene {manifest['scene']!r} -> {args.output} "
-          f"({size / 1e6:.2f} MB)")
+          f"({size / 1e6:.2f} MB, {manifest['precision']})")
     for region in manifest["regions"]:
         x0, y0, width, height = region["crop_window"]
         print(f"  {region['name']}: crop {width}x{height} at ({x0}, {y0}) -> input "
-              f"{region['input_size'][0]}x{region['input_size'][1]}, {region['network']['name']} network")
+              f"{region['input_size'][0]}x{region['input_size'][1]}, {region['network']['name']} network, "
+              f"{region['precision']}")
+    for line in _accuracy_table(manifest):
+        print(line)
     return 0
