@@ -134,7 +134,7 @@ def load_bundle(path: str | Path) -> Bundle:
             input_size=tuple(_require(entry, "input_size", list, where, path)),
             decode=decode, owned_image_area=_require(entry, "owned_image_area", dict, where, path),
             model=model, expected_height_px=heights,
-            precision=_require(entry, "precision", str, where, path)))
+            precision=str(entry.get("precision", "fp32"))))  # bundles before precisions were all fp32
     if not regions:
         raise InputError(path, f"{MANIFEST}: regions", "the bundle has no regions")
     return Bundle(path, manifest, regions)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -9,6 +10,7 @@ import pytest
 
 from vc.calibration.camera import Camera, look_at
 from vc.calibration.distortion import BrownConrady
+from vc.model.config import network_config
 
 REPO = Path(__file__).resolve().parents[1]
 PETS_DATA = REPO.parent / "shared" / "data" / "pets09_s2l1"
@@ -45,6 +47,36 @@ def pixel_grid(camera: Camera, step: int = 16) -> np.ndarray:
     us = np.unique(np.r_[np.arange(0, camera.width, step), camera.width - 1]).astype(np.float64)
     vs = np.unique(np.r_[np.arange(0, camera.height, step), camera.height - 1]).astype(np.float64)
     return np.stack(np.meshgrid(us, vs), axis=-1).reshape(-1, 2)
+
+
+#: A network small enough to train a few steps in a test.
+SMALL = replace(network_config("fast"), name="small", width=16, residual_units=1, sb_reduction=2)
+
+
+@pytest.fixture(scope="session")
+def trained_run(tmp_path_factory) -> Path:
+    """A finished two-step run of the small network on a flat test dataset (tests/dataset_factory.py)."""
+    from dataset_factory import write_dataset
+
+    from vc.model.data import open_region
+    from vc.model.train import RegionTrainer, for_network
+
+    root = tmp_path_factory.mktemp("export")
+    data_root = write_dataset(root / "dataset")
+    run = root / "run"
+    config = for_network(SMALL, steps=2, batch_size=2, warmup_steps=1)
+    RegionTrainer(open_region(data_root, "r0"), config, run, data_root, workers=0, show_progress=False).train()
+    return run
+
+
+@pytest.fixture(scope="session")
+def bundle(trained_run, tmp_path_factory) -> Path:
+    """The fp32 bundle of :func:`trained_run`."""
+    from vc.cli.export import main as vc_export
+
+    output = tmp_path_factory.mktemp("bundle") / "bundle"
+    assert vc_export([str(trained_run), "-o", str(output), "--quiet"]) == 0
+    return output
 
 
 @pytest.fixture(scope="session")

@@ -8,7 +8,6 @@ import shutil
 import subprocess
 import sys
 import zipfile
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -16,6 +15,7 @@ import onnx
 import onnxruntime as ort
 import pytest
 import torch
+from conftest import SMALL
 from dataset_factory import INPUT_SIZE, region_camera, sample, write_dataset
 
 from vc.cli.export import main as vc_export
@@ -23,31 +23,11 @@ from vc.deploy.bundle import load_bundle
 from vc.deploy.decode import decode
 from vc.deploy.runtime import Runtime, in_area
 from vc.errors import InputError
-from vc.model.config import network_config
 from vc.model.data import open_region
 from vc.model.export import DeployedNetwork, bundle_files, export_onnx
 from vc.model.network import ScenePoseNet
 from vc.model.precision import auto_precision, to_fp16, to_int8
 from vc.model.train import RegionTrainer, for_network
-
-SMALL = replace(network_config("fast"), name="small", width=16, residual_units=1, sb_reduction=2)
-
-
-@pytest.fixture(scope="module")
-def trained_run(tmp_path_factory) -> Path:
-    root = tmp_path_factory.mktemp("export")
-    data_root = write_dataset(root / "dataset")
-    run = root / "run"
-    config = for_network(SMALL, steps=2, batch_size=2, warmup_steps=1)
-    RegionTrainer(open_region(data_root, "r0"), config, run, data_root, workers=0, show_progress=False).train()
-    return run
-
-
-@pytest.fixture(scope="module")
-def bundle(trained_run, tmp_path_factory) -> Path:
-    output = tmp_path_factory.mktemp("bundle") / "bundle"
-    assert vc_export([str(trained_run), "-o", str(output)]) == 0
-    return output
 
 
 def _trained_network(seed: int = 0) -> ScenePoseNet:

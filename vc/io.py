@@ -48,6 +48,7 @@ def atomic_path(destination: str | Path) -> Iterator[Path]:
     handle, temporary = tempfile.mkstemp(prefix=f".{destination.name}.", suffix=".tmp" + destination.suffix,
                                          dir=destination.parent)
     os.close(handle)
+    os.chmod(temporary, 0o644)  # mkstemp's 0600 is for the temporary; the file it becomes is an ordinary output
     temporary_path = Path(temporary)
     try:
         yield temporary_path
@@ -64,6 +65,7 @@ def atomic_directory(destination: str | Path) -> Iterator[Path]:
     try:
         destination.parent.mkdir(parents=True, exist_ok=True)
         staging = Path(tempfile.mkdtemp(prefix=f".{destination.name}.", suffix=".tmp", dir=destination.parent))
+        staging.chmod(0o755)
     except OSError as error:
         raise InputError(destination.parent, "", f"cannot create output folder ({error.strerror})") from None
     try:

@@ -1,0 +1,118 @@
+"""vc-run and its frame reader: images, folders and videos in, JSON Lines and overlays out; bad input refused
+with exit status 2 and nothing written."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import re
+
+import cv2
+import numpy as np
+import pytest
+from dataset_factory import INPUT_SIZE, region_camera, sample
+
+from vc.cli.run import main as vc_run
+from vc.errors import InputError
+from vc.frames import FrameRange, FrameSource
+from vc.io import write_image
+
+
+def _frames(count: int) -> list[np.ndarray]:
+    """Test-dataset images, each with a band of its own grey level at the top so that no two are alike."""
+    frames = [sample(region_camera(), index, seed=3).image for index in range(count)]
+    for index, frame in enumerate(frames):
+        frame[:16] = 30 * index
+    return frames
+
+
+def _video(path, frames: list[np.ndarray]) -> None:
+    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"MJPG"), 10, INPUT_SIZE)
+    for frame in frames:
+        writer.write(np.ascontiguousarray(frame[:, :, ::-1]))
+    writer.release()
+
+
+@pytest.mark.parametrize(("text", "expected"), [("1:400:5", FrameRange(1, 400, 5)), ("::10", FrameRange(1, None, 10)),
+                                                ("100:", FrameRange(100, None, 1)), ("7", FrameRange(7, None, 1))])
+def test_frame_ranges_parse(text, expected):
+    assert FrameRange.parse(text) == expected
+
+
+@pytest.mark.parametrize("text", ["0:10", "5:4", "1:2:0", "a:b", "1:2:3:4"])
+def test_bad_frame_ranges_are_refused(text):
+    with pytest.raises(argparse.ArgumentTypeError):
+        FrameRange.parse(text)
+
+
+def test_a_selection_counts_and_yields_the_same_frames(tmp_path):
+    frames = _frames(7)
+    _video(tmp_path / "clip.avi", frames)
+    selection = FrameRange(2, 6, 2)
+    source = FrameSource(tmp_path / "clip.avi", selection)
+    read = list(source)
+    assert len(source) == 3 and [frame.number for frame in read] == [2, 4, 6]
+    # MJPG is lossy: the frames are the right ones if each is closest to its original.
+    for frame in read:
+        errors = [np.abs(frame.image.astype(int) - original).mean() for original in frames]
+        assert int(np.argmin(errors)) == frame.number - 1
+
+
+@pytest.mark.parametrize(("content", "message"), [(b"", "cannot open as a video|no readable frame"),
+                                                  (b"RIFF\x00\x00garbage" * 50, "cannot open as a video|no readable")])
+def test_unreadable_videos_are_input_errors(tmp_path, content, message):
+    (tmp_path / "bad.avi").write_bytes(content)
+    with pytest.raises(InputError, match=message):
+        FrameSource(tmp_path / "bad.avi")
+
+
+def test_an_empty_folder_and_an_empty_selection_are_input_errors(tmp_path):
+    with pytest.raises(InputError, match="no image files"):
+        FrameSource(tmp_path)
+    write_image(tmp_path / "a.png", _frames(1)[0])
+    with pytest.raises(InputError, match="holds none"):
+        FrameSource(tmp_path, FrameRange(5))
+
+
+def test_vc_run_writes_one_line_per_frame_and_overlays(bundle, tmp_path):
+    folder = tmp_path / "frames"
+    for index, frame in enumerate(_frames(3)):
+        write_image(folder / f"f{index:02d}.png", frame)
+    output = tmp_path / "out"
+    assert vc_run([str(bundle), str(folder), "-o", str(output), "--overlay", "--threads", "1", "--quiet"]) == 0
+    lines = [json.loads(line) for line in (output / "detections.jsonl").read_text().splitlines()]
+    assert [line["frame"] for line in lines] == [1, 2, 3] and lines[0]["name"] == "f00.png"
+    summary = json.loads((output / "summary.json").read_text())
+    assert summary["frames"] == 3 and summary["people"] == sum(len(line["people"]) for line in lines)
+    assert sorted(path.name for path in (output / "overlays").iterdir()) == ["f00.png", "f01.png", "f02.png"]
+
+
+def test_vc_run_on_a_video_writes_an_overlay_video(bundle, tmp_path):
+    _video(tmp_path / "clip.avi", _frames(4))
+    output = tmp_path / "out"
+    assert vc_run([str(bundle), str(tmp_path / "clip.avi"), "-o", str(output), "--overlay", "--frames", "::2",
+                   "--quiet"]) == 0
+    assert [json.loads(line)["frame"] for line in (output / "detections.jsonl").read_text().splitlines()] == [1, 3]
+    overlay = cv2.VideoCapture(str(output / "overlay.mp4"))
+    assert overlay.get(cv2.CAP_PROP_FRAME_COUNT) == 2 and overlay.get(cv2.CAP_PROP_FRAME_WIDTH) == INPUT_SIZE[0]
+
+
+@pytest.mark.parametrize("case", ["wrong size", "bad video", "bad bundle"])
+def test_vc_run_refuses_bad_input_and_writes_nothing(bundle, tmp_path, capsys, case):
+    bundle_path, input_path = bundle, tmp_path / "frames"
+    input_path.mkdir()
+    write_image(input_path / "a.png", _frames(1)[0])
+    if case == "wrong size":
+        write_image(input_path / "b.png", np.zeros((INPUT_SIZE[1] + 2, INPUT_SIZE[0], 3), np.uint8))
+        expected = "frame 2 \\(b.png\\): is 128x66"
+    elif case == "bad video":
+        input_path = tmp_path / "empty.avi"
+        input_path.write_bytes(b"")
+        expected = "empty.avi"
+    else:
+        bundle_path = tmp_path / "bundle.zip"
+        bundle_path.write_bytes(b"PK\x03\x04 not really a zip")
+        expected = "bundle.zip"
+    assert vc_run([str(bundle_path), str(input_path), "-o", str(tmp_path / "out"), "--overlay", "--quiet"]) == 2
+    assert re.search(expected, capsys.readouterr().err)
+    assert not (tmp_path / "out").exists() and not list(tmp_path.glob(".out.*"))

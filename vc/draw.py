@@ -1,0 +1,62 @@
+"""Detections drawn onto frames: what a person checks by eye (vc-run overlays, vc-eval contact sheets)."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+
+from vc.deploy.runtime import Person
+from vc.keypoints import COCO_SKELETON
+
+#: Distinct colours (RGB) cycled over people.
+PALETTE = np.array([(230, 25, 75), (60, 180, 75), (255, 225, 25), (0, 130, 200), (245, 130, 48), (145, 30, 180),
+                    (70, 240, 240), (240, 50, 230), (210, 245, 60), (250, 190, 212)], np.uint8)
+TRUTH_COLOUR = (255, 255, 255)
+MASK_OPACITY = 0.4
+
+
+def _point(xy: np.ndarray) -> tuple[int, int]:
+    return int(round(float(xy[0]))), int(round(float(xy[1])))
+
+
+def draw_people(frame: np.ndarray, people: list[Person], keypoint_threshold: float = 0.2,
+                truth_boxes: np.ndarray | None = None) -> np.ndarray:
+    """A copy of ``frame`` (RGB uint8) with each person's mask tinted, box, confident skeleton and score; truth
+    boxes (x0, y0, x1, y1), when given, in thin white underneath."""
+    image = frame.copy()
+    for index, person in enumerate(people):
+        colour = PALETTE[index % len(PALETTE)]
+        x, y = person.mask_origin
+        height, width = person.mask.shape
+        patch = image[y:y + height, x:x + width]
+        patch[person.mask] = (patch[person.mask] * (1 - MASK_OPACITY) + colour * MASK_OPACITY).astype(np.uint8)
+    for box in np.asarray(truth_boxes if truth_boxes is not None else [], np.float64).reshape(-1, 4):
+        cv2.rectangle(image, _point(box[:2]), _point(box[2:]), TRUTH_COLOUR, 1, cv2.LINE_AA)
+    for index, person in enumerate(people):
+        colour = tuple(int(c) for c in PALETTE[index % len(PALETTE)])
+        cv2.rectangle(image, _point(person.box[:2]), _point(person.box[2:]), colour, 2, cv2.LINE_AA)
+        confident = person.keypoints[:, 2] >= keypoint_threshold
+        for a, b in COCO_SKELETON:
+            if confident[a] and confident[b]:
+                cv2.line(image, _point(person.keypoints[a]), _point(person.keypoints[b]), colour, 1, cv2.LINE_AA)
+        for keypoint in person.keypoints[confident]:
+            cv2.circle(image, _point(keypoint), 2, colour, -1, cv2.LINE_AA)
+        cv2.putText(image, f"{person.score:.2f}", (int(person.box[0]), max(int(person.box[1]) - 3, 10)),
+                    cv2.FONT_HERSHEY_SIMPLEX, 0.4, colour, 1, cv2.LINE_AA)
+    return image
+
+
+def contact_sheet(images: list[np.ndarray], columns: int = 4, width: int = 1600) -> np.ndarray:
+    """Images (all the same size) tiled ``columns`` wide and scaled so the sheet is ``width`` pixels wide."""
+    if not images:
+        raise ValueError("no images for a contact sheet")
+    height, frame_width = images[0].shape[:2]
+    tile_width = width // columns
+    tile_height = round(height * tile_width / frame_width)
+    rows = -(-len(images) // columns)
+    sheet = np.zeros((rows * tile_height, columns * tile_width, 3), np.uint8)
+    for index, image in enumerate(images):
+        row, column = divmod(index, columns)
+        sheet[row * tile_height:(row + 1) * tile_height, column * tile_width:(column + 1) * tile_width] = \
+            cv2.resize(image, (tile_width, tile_height), interpolation=cv2.INTER_AREA)
+    return sheet
