@@ -1,0 +1,113 @@
+"""vc-eval: MOT ground truth, the baselines (HOG, a YOLO-pose style ONNX model) and the report on a small video."""
+
+from __future__ import annotations
+
+import json
+
+import cv2
+import numpy as np
+import onnx
+import pytest
+from dataset_factory import INPUT_SIZE, region_camera, sample
+from onnx import TensorProto, helper
+
+from vc.baselines import HogPeopleDetector, YoloPoseOnnx, non_max_suppression
+from vc.cli.eval import main as vc_eval
+from vc.deploy.metrics import box_iou
+from vc.errors import InputError
+from vc.frames import FrameRange, FrameSource
+from vc.mot import read_mot_boxes
+
+TRUE_BOX = np.array([40.0, 10.0, 60.0, 50.0])  # x0, y0, x1, y1 in a 128x64 frame
+YOLO_SIZE = 64
+
+
+def _yolo_model(path) -> None:
+    """A YOLO-pose style model (1, 56, N) that always reports TRUE_BOX (letterboxed into 64x64: scale 0.5, padded
+    16 px at the top), a weaker near-duplicate of it and a box below the confidence floor."""
+    scale, pad_y = 0.5, 16
+    cx, cy = (TRUE_BOX[0] + TRUE_BOX[2]) / 2 * scale, (TRUE_BOX[1] + TRUE_BOX[3]) / 2 * scale + pad_y
+    width, height = (TRUE_BOX[2] - TRUE_BOX[0]) * scale, (TRUE_BOX[3] - TRUE_BOX[1]) * scale
+    rows = np.zeros((3, 56), np.float32)
+    rows[0, :5] = cx, cy, width, height, 0.9
+    rows[1, :5] = cx + 0.5, cy, width, height, 0.5
+    rows[2, :5] = 5, 5, 4, 4, 0.0001
+    constant = helper.make_tensor("rows", TensorProto.FLOAT, (1, 56, 3), rows.T.ravel())
+    nodes = [helper.make_node("ReduceMean", ["images"], ["mean"], axes=[1, 2, 3], keepdims=0),
+             helper.make_node("Mul", ["mean", "zero"], ["nothing"]),
+             helper.make_node("Add", ["nothing", "rows"], ["output0"])]
+    graph = helper.make_graph(nodes, "yolo-like", [helper.make_tensor_value_info(
+        "images", TensorProto.FLOAT, (1, 3, YOLO_SIZE, YOLO_SIZE))],
+        [helper.make_tensor_value_info("output0", TensorProto.FLOAT, (1, 56, 3))],
+        initializer=[constant, helper.make_tensor("zero", TensorProto.FLOAT, (), [0.0])])
+    onnx.save(helper.make_model(graph, opset_imports=[helper.make_opsetid("", 17)], ir_version=8), path)
+
+
+def test_mot_boxes_are_read_per_frame_and_bad_lines_named(tmp_path):
+    path = tmp_path / "gt.txt"
+    path.write_text("1,9,499.2,157.7,31.0,75.2,1,-1,-1,-1\n1,15,258,218,33,89,1,-1,-1,-1\n3,9,10,20,5,10,1\n")
+    boxes = read_mot_boxes(path)
+    assert sorted(boxes) == [1, 3] and boxes[1].shape == (2, 4)
+    assert np.allclose(boxes[1][0], [499.2, 157.7, 530.2, 232.9])
+    path.write_text("1,9,499.2,157.7,31.0,75.2\n2,9,x,1,1,1\n")
+    with pytest.raises(InputError, match="line 2"):
+        read_mot_boxes(path)
+
+
+def test_a_yolo_pose_model_is_letterboxed_and_suppressed(tmp_path):
+    _yolo_model(tmp_path / "yolo.onnx")
+    detector = YoloPoseOnnx(tmp_path / "yolo.onnx")
+    boxes, scores = detector(np.zeros((INPUT_SIZE[1], INPUT_SIZE[0], 3), np.uint8))
+    assert detector.size == YOLO_SIZE and len(boxes) == 1
+    assert np.allclose(boxes[0], TRUE_BOX, atol=1e-3) and scores[0] == pytest.approx(0.9)
+
+
+def test_non_max_suppression_keeps_the_best_of_each_overlap():
+    boxes = np.array([[0, 0, 10, 10], [1, 0, 11, 10], [20, 20, 30, 30]], float)
+    assert non_max_suppression(boxes, np.array([0.5, 0.9, 0.3]), 0.5).tolist() == [1, 2]
+
+
+@pytest.mark.pets
+def test_hog_finds_pets_people_with_boxes_shrunk_to_the_person(pets_data):
+    frame = next(iter(FrameSource(pets_data / "vtest.avi", FrameRange(1, 1)))).image
+    truth = read_mot_boxes(pets_data / "gt_dev_frames_0001-0400.txt")[1]
+    boxes, scores = HogPeopleDetector()(frame)
+    assert len(boxes) == len(scores) > 0
+    width, height = boxes[:, 2] - boxes[:, 0], boxes[:, 3] - boxes[:, 1]
+    assert np.allclose(width / height, 32 / 96, rtol=0.05)  # 16 px off each side of the (rounded) 64x128 window
+    assert (box_iou(truth, boxes).max(axis=1) >= 0.5).sum() >= len(truth) // 2
+
+
+def _video_and_truth(tmp_path, frames: int = 4):
+    writer = cv2.VideoWriter(str(tmp_path / "clip.avi"), cv2.VideoWriter_fourcc(*"MJPG"), 10, INPUT_SIZE)
+    for index in range(frames):
+        writer.write(np.ascontiguousarray(sample(region_camera(), index, seed=9).image[:, :, ::-1]))
+    writer.release()
+    x0, y0, x1, y1 = TRUE_BOX
+    (tmp_path / "gt.txt").write_text("".join(f"{n},1,{x0},{y0},{x1 - x0},{y1 - y0},1,-1,-1,-1\n"
+                                             for n in range(1, frames)))
+    return tmp_path / "clip.avi", tmp_path / "gt.txt"
+
+
+def test_vc_eval_scores_every_detector_and_draws_the_result(bundle, tmp_path):
+    video, truth = _video_and_truth(tmp_path)
+    _yolo_model(tmp_path / "yolo.onnx")
+    output = tmp_path / "eval"
+    assert vc_eval([str(bundle), "--video", str(video), "--gt", str(truth), "-o", str(output), "--threads", "1",
+                    "--external", str(tmp_path / "yolo.onnx"), "--external-name", "yolo", "--quiet"]) == 0
+    metrics = json.loads((output / "metrics.json").read_text())
+    assert metrics["frames"]["count"] == 3  # the annotated range, 1-3
+    detectors = metrics["detectors"]
+    assert set(detectors) == {"visual compiler", "HOG (OpenCV, real photos)", "yolo"}
+    assert detectors["yolo"]["ap50"] == 1.0 and detectors["yolo"]["ground_truth"] == 3
+    assert all(0.0 <= d["ap50"] <= 1.0 and d["ms_per_frame"]["median"] > 0 for d in detectors.values())
+    for name in ("precision_recall.png", "contact_sheet.png", "detections.jsonl"):
+        assert (output / name).stat().st_size > 0
+
+
+def test_vc_eval_refuses_frames_past_the_ground_truth(bundle, tmp_path, capsys):
+    video, truth = _video_and_truth(tmp_path)
+    assert vc_eval([str(bundle), "--video", str(video), "--gt", str(truth), "-o", str(tmp_path / "eval"),
+                    "--frames", "1:4", "--no-hog", "--quiet"]) == 2
+    assert "past the last annotated frame (3)" in capsys.readouterr().err
+    assert not (tmp_path / "eval").exists()
