@@ -1,0 +1,68 @@
+"""vc-compile end to end on the demo scene at a toy budget: every stage runs once, a second run skips them all,
+and the self-test's composed frames carry their people's boxes."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from vc.cli import compile as compile_cli
+from vc.model.data import open_region
+from vc.selftest import composite_frame
+
+pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("anny")]
+TOY = compile_cli.Budget(samples=20, spp=1, steps=2, eval_samples=10, selftest_frames=2)
+
+
+@pytest.fixture(scope="module")
+def compiled(tmp_path_factory, monkeypatch_module) -> tuple:
+    monkeypatch_module.setitem(compile_cli.BUDGETS, "quick", TOY)
+    monkeypatch_module.setattr(compile_cli, "SHARD_SIZE", 10)
+    output = tmp_path_factory.mktemp("compile") / "demo"
+    code = compile_cli.main(["scenes/demo/scene.yaml", "-o", str(output), "--budget", "quick", "--quiet"])
+    return code, output
+
+
+@pytest.fixture(scope="module")
+def monkeypatch_module():
+    with pytest.MonkeyPatch.context() as patch:
+        yield patch
+
+
+def test_every_stage_runs_and_is_recorded(compiled):
+    code, output = compiled
+    assert code == 0
+    state = json.loads((output / "compile.json").read_text())
+    assert list(state["stages"]) == ["check", "render", "train", "export", "self-test"]
+    assert state["stages"]["self-test"]["frames"] == 2 and state["stages"]["self-test"]["people_asked_for"] > 0
+    assert set(state["stages"]["export"]["precision"]) == {"r0", "r1"}
+    for path in ("bundle/manifest.json", "run/metrics.json", "overlay.png"):
+        assert (output / path).is_file()
+
+
+def test_a_second_run_skips_finished_stages(compiled, capsys):
+    _, output = compiled
+    before = (output / "bundle" / "manifest.json").stat().st_mtime_ns
+    assert compile_cli.main(["scenes/demo/scene.yaml", "-o", str(output), "--budget", "quick", "--quiet"]) == 0
+    assert capsys.readouterr().out.count("done before") == 5
+    assert (output / "bundle" / "manifest.json").stat().st_mtime_ns == before
+
+
+def test_composed_frames_put_people_where_their_boxes_say(compiled):
+    _, output = compiled
+    from vc.io import read_image
+    from vc.scenes.loader import load_scene
+
+    background = read_image(load_scene("scenes/demo/scene.yaml").image_path)
+    regions = [open_region(output / "renders", name) for name in ("r0", "r1")]
+    frame = composite_frame(background, regions, 0)
+    changed = np.abs(frame.image.astype(int) - background).max(axis=2) > 0
+    assert len(frame.truth_boxes) > 0
+    for box, ignored in zip(frame.truth_boxes, frame.truth_ignore, strict=True):
+        if ignored:
+            continue
+        x0, y0, x1, y1 = np.round(box).astype(int)
+        inside = changed[max(y0, 0):y1, max(x0, 0):x1]
+        assert inside.mean() > 0.1  # the person's pixels are in their box
