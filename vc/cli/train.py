@@ -1,6 +1,7 @@
 """``vc-train``: one ScenePoseNet per region, trained on a ``vc-render`` dataset only.
 
-    vc-train DATASET -o RUN [--region R ... | --all] [--arch A] [--steps N] [--batch-size B] [--seed K]
+    vc-train DATASET -o RUN [--region R ... | --all] [--arch A] [--width W] [--sb-units N] [--steps N]
+             [--batch-size B] [--seed K]
 
 Writes ``RUN/checkpoints/<region>.pt`` (resumable: run the same command again after an interruption),
 ``RUN/metrics.json`` (held-out synthetic AP50, PCKh@0.5 overall and per keypoint, mask IoU, training speed, per
@@ -13,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import json
+from dataclasses import replace
 from pathlib import Path
 
 from vc import __version__
@@ -38,6 +40,8 @@ def _parser() -> argparse.ArgumentParser:
     which.add_argument("--all", action="store_true", help="train every region of the dataset (the default)")
     parser.add_argument("--arch", choices=sorted(PRESETS), default=DEFAULT_ARCH,
                         help=f"network preset (default {DEFAULT_ARCH})")
+    parser.add_argument("--width", type=positive_int, help="override the preset's channel width")
+    parser.add_argument("--sb-units", type=positive_int, help="override the preset's number of SB units")
     defaults = TrainConfig()
     parser.add_argument("--steps", type=positive_int, default=defaults.steps,
                         help=f"optimiser steps per region (default {defaults.steps})")
@@ -88,6 +92,12 @@ def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     regions = _regions(args.dataset, args.region)
     network = network_config(args.arch)
+    overrides = {"width": args.width, "sb_units": args.sb_units}
+    if any(value is not None for value in overrides.values()):
+        try:
+            network = replace(network, **{key: value for key, value in overrides.items() if value is not None})
+        except ValueError as error:
+            raise InputError(None, "--width/--sb-units", str(error)) from None
     config = for_network(network, steps=args.steps, batch_size=args.batch_size, seed=args.seed)
     device = select_device()
     print(f"vc-train: {len(regions)} region(s) of {args.dataset}, {network.name} network, {config.steps} steps of "

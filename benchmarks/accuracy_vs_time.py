@@ -1,0 +1,248 @@
+"""What each compile knob buys: accuracy against compile time and runtime, one knob at a time.
+
+    python benchmarks/accuracy_vs_time.py --scene SCENE --knob spp [--knob samples ...] [--work DIR]
+        [--dev-video V --dev-gt GT.txt --dev-frames 1:400:5] [--out benchmarks/results]
+
+Every point is the standard compile (2 000 samples/region at 16 spp with effects, the ``fast`` network, 1 800
+steps, per-region models, fp32) with one knob changed (:data:`KNOBS`):
+
+- ``spp`` 4 / 16 / 64, ``effects`` on / off (shadows; lens distortion stays: labels must follow the lens),
+  ``samples`` per region 1k / 5k / 20k / 50k,
+- ``arch`` fast / fast-dw / dense9, ``width`` 16 / 32 / 64, ``sb_units`` 1 / 2 / 3,
+- ``input`` (the planner's target person height) 40 / 48 / 64 / 80 px, ``regions`` per-region / single (SPN-G),
+- ``precision`` fp32 / fp16 / int8.
+
+Measured per point: held-out synthetic AP50 and PCKh@0.5 (mean over regions), real AP50 and runtime ms/frame
+on the development frames through ``vc-eval`` when ``--dev-video`` is given (the runtime alone otherwise, on the
+self-test's composed frames), and compile time (render + train + export; a stage shared by several points, such as
+the base renders, counts its full time for each). Work lives in ``--work``: renders, runs and bundles are
+keyed by the settings they depend on and reused; a finished point is never recomputed, so the sweep resumes
+after an interruption and runs a knob at a time (the whole sweep takes many hours on 2 cores). Writes
+``accuracy_vs_time.json``, ``accuracy_vs_time.md`` and ``accuracy_vs_time_<knob>.png`` to ``--out``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+import json
+import time
+from dataclasses import asdict, dataclass, replace
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import yaml  # noqa: E402
+
+
+@dataclass(frozen=True)
+class Point:
+    """One compile: the settings every stage depends on."""
+
+    spp: int = 16
+    effects: bool = True
+    samples: int = 2000
+    arch: str = "fast"
+    width: int | None = None
+    sb_units: int | None = None
+    target_person_px: float | None = None  # None: the scene's own plan
+    single_region: bool = False
+    precision: str = "fp32"
+    steps: int = 1800
+
+    def key(self, *fields: str) -> str:
+        values = {name: getattr(self, name) for name in fields}
+        return hashlib.sha256(json.dumps(values, sort_keys=True).encode()).hexdigest()[:12]
+
+    def render_key(self) -> str:
+        return self.key("spp", "effects", "samples", "target_person_px", "single_region")
+
+    def train_key(self) -> str:
+        return self.key("spp", "effects", "samples", "target_person_px", "single_region", "arch", "width",
+                        "sb_units", "steps")
+
+    def bundle_key(self) -> str:
+        return self.train_key() + "-" + self.precision
+
+
+BASE = Point()
+KNOBS: dict[str, dict[str, Point]] = {
+    "spp": {str(v): replace(BASE, spp=v) for v in (4, 16, 64)},
+    "effects": {"on": BASE, "off": replace(BASE, effects=False)},
+    "samples": {str(v): replace(BASE, samples=v) for v in (1000, 5000, 20000, 50000)},
+    "arch": {v: replace(BASE, arch=v) for v in ("fast", "fast-dw", "dense9")},
+    "width": {str(v): replace(BASE, width=v) for v in (16, 32, 64)},
+    "sb_units": {str(v): replace(BASE, sb_units=v) for v in (1, 2, 3)},
+    "input": {f"{v} px": replace(BASE, target_person_px=v) for v in (40, 48, 64, 80)},
+    "regions": {"per-region": BASE, "single (SPN-G)": replace(BASE, single_region=True)},
+    "precision": {v: replace(BASE, precision=v) for v in ("fp32", "fp16", "int8")},
+}
+
+
+class Sweep:
+    def __init__(self, args: argparse.Namespace) -> None:
+        self.args, self.work = args, args.work
+        self.scene_yaml = args.scene.resolve()
+
+    def _timed(self, folder: Path, stage) -> float:
+        """Run ``stage`` once for ``folder`` and remember how long it took (shared stages keep their time)."""
+        record = folder.parent / f"{folder.name}.seconds.json"
+        if record.is_file():
+            return json.loads(record.read_text())["seconds"]
+        start = time.perf_counter()
+        code = stage()
+        if code != 0:
+            raise SystemExit(f"stage for {folder} failed with exit status {code}")
+        seconds = time.perf_counter() - start
+        record.write_text(json.dumps({"seconds": seconds}))
+        return seconds
+
+    def scene(self, point: Point) -> Path:
+        """The scene YAML with the point's overrides (effects, region plan), its image path made absolute."""
+        document = yaml.safe_load(self.scene_yaml.read_text())
+        image = Path(document["image"])
+        document["image"] = str(image if image.is_absolute() else (self.scene_yaml.parent / image).resolve())
+        regions = document.get("regions", "auto")
+        regions = {"mode": regions} if isinstance(regions, str) else dict(regions)
+        if point.single_region:
+            regions["mode"] = "single"
+        if point.target_person_px is not None:
+            regions["target_person_px"] = point.target_person_px
+        document["regions"] = regions
+        if not point.effects:
+            from vc.scenes.loader import load_scene
+
+            distorted = not load_scene(self.scene_yaml).camera.distortion.is_identity
+            document["effects"] = ["lens_distortion"] if distorted else []
+        path = self.work / "scenes" / f"{point.render_key()}.yaml"
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(yaml.safe_dump(document, sort_keys=False))
+        return path
+
+    def compile(self, point: Point) -> tuple[dict[str, Path], dict[str, float]]:
+        from vc.cli import export as export_cli
+        from vc.cli import render as render_cli
+        from vc.cli import train as train_cli
+
+        scene = self.scene(point)
+        renders = self.work / "renders" / point.render_key()
+        run = self.work / "runs" / point.train_key()
+        bundle = self.work / "bundles" / point.bundle_key()
+        for folder in (renders, run, bundle):
+            folder.parent.mkdir(parents=True, exist_ok=True)
+        seconds = {"render": self._timed(renders, lambda: render_cli.main(
+            [str(scene), "-o", str(renders), "--samples", str(point.samples), "--spp", str(point.spp)]))}
+        train_args = [str(renders), "-o", str(run), "--all", "--arch", point.arch, "--steps", str(point.steps),
+                      "--quiet"]
+        train_args += ["--width", str(point.width)] if point.width else []
+        train_args += ["--sb-units", str(point.sb_units)] if point.sb_units else []
+        seconds["train"] = self._timed(run, lambda: train_cli.main(train_args))
+        seconds["export"] = self._timed(bundle, lambda: export_cli.main(
+            [str(run), "-o", str(bundle), "--precision", point.precision, "--quiet"]))
+        return {"scene": scene, "renders": renders, "bundle": bundle}, seconds
+
+    def measure(self, knob: str, value: str, point: Point) -> dict:
+        path = self.work / "points" / knob / f"{value.replace(' ', '_')}.json"
+        if path.is_file():
+            return json.loads(path.read_text())
+        paths, seconds = self.compile(point)
+        manifest = json.loads((paths["bundle"] / "manifest.json").read_text())
+        held_out = [region["held_out_accuracy"][region["precision"]] for region in manifest["regions"]]
+        result = {"knob": knob, "value": value, "point": asdict(point), "compile_seconds": seconds,
+                  "compile_minutes": sum(seconds.values()) / 60,
+                  "synthetic_ap50": float(np.mean([r["ap50"] for r in held_out])),
+                  "synthetic_pckh": float(np.mean([r["pckh"] or 0.0 for r in held_out]))}
+        result.update(self.real(paths["bundle"], knob, value) if self.args.dev_video else self.composed(**paths))
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(json.dumps(result, indent=2))
+        return result
+
+    def real(self, bundle: Path, knob: str, value: str) -> dict:
+        from vc.cli import eval as eval_cli
+
+        output = self.work / "evals" / knob / value.replace(" ", "_")
+        code = eval_cli.main([str(bundle), "--video", str(self.args.dev_video), "--gt", str(self.args.dev_gt),
+                              "--frames", self.args.dev_frames, "-o", str(output), "--no-hog", "--quiet"])
+        if code != 0:
+            raise SystemExit(f"vc-eval failed with exit status {code}")
+        ours = json.loads((output / "metrics.json").read_text())["detectors"]["visual compiler"]
+        return {"real_ap50": ours["ap50"], "runtime_ms": ours["ms_per_frame"]["median"]}
+
+    def composed(self, scene: Path, renders: Path, bundle: Path) -> dict:
+        from vc.deploy.runtime import Runtime
+        from vc.io import read_image
+        from vc.model.data import open_region, read_manifest
+        from vc.scenes.loader import load_scene
+        from vc.selftest import self_test
+
+        regions = [open_region(renders, name) for name in read_manifest(renders)["regions"]]
+        result = self_test(Runtime(bundle), read_image(load_scene(scene).image_path), regions, 20)
+        return {"composed_ap50": result.ap50, "runtime_ms": result.ms_per_frame}
+
+
+def _plot(knob: str, points: list[dict], out: Path) -> None:
+    metrics = [(name, label) for name, label in (("synthetic_ap50", "synthetic AP50"),
+                                                 ("synthetic_pckh", "synthetic PCKh@0.5"),
+                                                 ("real_ap50", "real AP50"), ("composed_ap50", "composed AP50"))
+               if any(name in point for point in points)]
+    figure, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
+    for axis, x_name, x_label in ((axes[0], "compile_minutes", "compile time (min, 2 cores)"),
+                                  (axes[1], "runtime_ms", "runtime (ms/frame, 2 cores)")):
+        for name, label in metrics:
+            xs = [point[x_name] for point in points if name in point]
+            ys = [point[name] for point in points if name in point]
+            axis.plot(xs, ys, "o-", label=label)
+            for point in points:
+                if name in point:
+                    axis.annotate(point["value"], (point[x_name], point[name]), fontsize=7,
+                                  xytext=(3, 3), textcoords="offset points")
+        axis.set(xlabel=x_label, ylim=(0, 1.02))
+        axis.grid(alpha=0.3)
+    axes[0].set_ylabel("accuracy")
+    axes[0].legend(fontsize=8)
+    figure.suptitle(f"knob: {knob}")
+    figure.tight_layout()
+    figure.savefig(out / f"accuracy_vs_time_{knob}.png", dpi=120)
+    plt.close(figure)
+
+
+def _report(results: dict[str, list[dict]], out: Path) -> None:
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "accuracy_vs_time.json").write_text(json.dumps(results, indent=2) + "\n")
+    lines = ["| knob | value | compile min | synthetic AP50 | synthetic PCKh | real AP50 | runtime ms/frame |",
+             "|---|---|---|---|---|---|---|"]
+    for knob, points in results.items():
+        for p in points:
+            real = f"{p['real_ap50']:.3f}" if "real_ap50" in p else "—"
+            lines.append(f"| {knob} | {p['value']} | {p['compile_minutes']:.1f} | {p['synthetic_ap50']:.3f} | "
+                         f"{p['synthetic_pckh']:.3f} | {real} | {p['runtime_ms']:.1f} |")
+        _plot(knob, points, out)
+    (out / "accuracy_vs_time.md").write_text("\n".join(lines) + "\n")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--scene", type=Path, required=True)
+    parser.add_argument("--knob", nargs="+", choices=list(KNOBS), required=True)
+    parser.add_argument("--work", type=Path, default=Path("out/accuracy_vs_time"))
+    parser.add_argument("--dev-video", type=Path)
+    parser.add_argument("--dev-gt", type=Path)
+    parser.add_argument("--dev-frames", default="1:400:5")
+    parser.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
+    args = parser.parse_args()
+    if bool(args.dev_video) != bool(args.dev_gt):
+        parser.error("--dev-video and --dev-gt go together")
+    sweep = Sweep(args)
+    previous = args.out / "accuracy_vs_time.json"
+    results = json.loads(previous.read_text()) if previous.is_file() else {}
+    for knob in args.knob:
+        results[knob] = [sweep.measure(knob, value, point) for value, point in KNOBS[knob].items()]
+        _report(results, args.out)
+        print(f"{knob}: " + ", ".join(f"{p['value']} {p['synthetic_ap50']:.3f}" for p in results[knob]), flush=True)
+
+
+if __name__ == "__main__":
+    main()

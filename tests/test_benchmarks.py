@@ -1,0 +1,38 @@
+"""The accuracy-vs-time sweep's bookkeeping: which points share renders and runs, and the scene overrides."""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import sys
+from pathlib import Path
+
+from conftest import REPO
+
+from vc.scenes.loader import load_scene
+from vc.scenes.regions import plan_regions
+
+_spec = importlib.util.spec_from_file_location("accuracy_vs_time", REPO / "benchmarks" / "accuracy_vs_time.py")
+sweep_module = importlib.util.module_from_spec(_spec)
+sys.modules["accuracy_vs_time"] = sweep_module  # dataclasses look their module up while it executes
+_spec.loader.exec_module(sweep_module)
+KNOBS, BASE = sweep_module.KNOBS, sweep_module.BASE
+
+
+def test_points_share_what_they_do_not_change():
+    assert {p.render_key() for p in KNOBS["arch"].values()} == {BASE.render_key()}
+    assert {p.train_key() for p in KNOBS["precision"].values()} == {BASE.train_key()}
+    assert len({p.bundle_key() for p in KNOBS["precision"].values()}) == 3
+    assert len({p.render_key() for p in KNOBS["spp"].values()}) == 3
+    # the base point is measured once per knob but compiled once
+    assert KNOBS["effects"]["on"] == KNOBS["regions"]["per-region"] == BASE
+
+
+def test_scene_overrides_plan_what_the_point_asks_for(tmp_path):
+    sweep = sweep_module.Sweep(argparse.Namespace(work=tmp_path, scene=Path(REPO / "scenes/demo/scene.yaml")))
+    single = load_scene(sweep.scene(KNOBS["regions"]["single (SPN-G)"]))
+    assert len(plan_regions(single)) == 1
+    small, default = (plan_regions(load_scene(sweep.scene(KNOBS["input"][v]))) for v in ("40 px", "80 px"))
+    assert all(a.input_size[0] < b.input_size[0] for a, b in zip(small, default, strict=True))
+    no_effects = load_scene(sweep.scene(KNOBS["effects"]["off"]))
+    assert no_effects.effects == ["lens_distortion"]  # the demo lens is distorted: labels must follow it
