@@ -137,3 +137,13 @@ def test_a_blurred_double_peak_is_one_person_but_neighbours_stay_two():
 
     assert people_found(2.0) == 1  # 8 px apart: 0.08 of a 100 px person
     assert people_found(8.0) == 2  # 32 px apart: two people side by side
+
+
+def test_noise_decodes_to_at_most_max_people_strongest_first() -> None:
+    noise = np.random.default_rng(0).random((HEATMAP_CHANNELS, 80, 300)).astype(np.float32)
+    config = DecodeConfig(stride=STRIDE, max_people=25)
+    people = decode(noise, config)
+    strongest = [value for value, _ in find_peaks(noise[CENTRE_CHANNEL], config.centre_threshold)]
+    assert 0 < len(people) <= 25 < len(strongest)
+    assert people[0].score == pytest.approx(strongest[0])
+    assert all(a.score >= b.score for a, b in zip(people, people[1:]))
