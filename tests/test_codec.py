@@ -146,4 +146,4 @@ def test_noise_decodes_to_at_most_max_people_strongest_first() -> None:
     strongest = [value for value, _ in find_peaks(noise[CENTRE_CHANNEL], config.centre_threshold)]
     assert 0 < len(people) <= 25 < len(strongest)
     assert people[0].score == pytest.approx(strongest[0])
-    assert all(a.score >= b.score for a, b in zip(people, people[1:]))
+    assert np.all(np.diff([person.score for person in people]) <= 0)

@@ -170,3 +170,16 @@ def test_a_dataset_with_one_shard_is_refused(tmp_path, capsys):
     single = write_dataset(tmp_path / "single", samples=4, shard_size=8)
     assert vc_train([str(single), "-o", str(tmp_path / "run")]) == 2
     assert "needs at least 2" in capsys.readouterr().err
+
+
+def test_width_and_sb_units_override_the_preset(flat_dataset, tmp_path):
+    run = tmp_path / "run"
+    assert vc_train([str(flat_dataset), "-o", str(run), "--steps", "1", "--batch-size", "2", "--quiet",
+                     "--workers", "0", "--width", "16", "--sb-units", "1"]) == 0
+    network = TrainConfig.from_dict(torch.load(checkpoint_path(run, "r0"), weights_only=False)["train_config"]).network
+    assert (network.width, network.sb_units) == (16, 1)
+
+
+def test_a_width_the_bottleneck_cannot_divide_is_refused(flat_dataset, tmp_path, capsys):
+    assert vc_train([str(flat_dataset), "-o", str(tmp_path / "run"), "--width", "15"]) == 2
+    assert "sb_reduction must be >= 1 and divide width 15" in capsys.readouterr().err
