@@ -26,7 +26,7 @@ from tqdm import tqdm
 from vc import __version__
 from vc.baselines import HogPeopleDetector, YoloPoseOnnx
 from vc.cli.common import handles_input_errors, positive_int
-from vc.deploy.metrics import Evaluation, ImageResult, evaluate
+from vc.deploy.metrics import Evaluation, ImageResult, box_iou, evaluate
 from vc.deploy.runtime import Person, Runtime
 from vc.draw import contact_sheet, draw_people
 from vc.errors import InputError
@@ -39,6 +39,8 @@ OURS = "visual compiler"
 #: Ground-truth person heights (px) over which the bundle's recall is broken down.
 HEIGHT_BINS = (0, 60, 80, 100, 10_000)
 SHEET_FRAMES = 8
+#: Ground-truth people overlapping another this much count as "in a group" in the breakdown.
+GROUP_IOU = 0.1
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -98,11 +100,21 @@ def operating_point(images: list[ImageResult], evaluation: Evaluation) -> dict:
         if inside.any():
             label = f"{low}-{high} px" if high < HEIGHT_BINS[-1] else f">= {low} px"
             by_height[label] = {"people": int(inside.sum()), "recall": round(float(found[inside].mean()), 4)}
+    overlapped = np.concatenate([_overlapped(image.truth_boxes) for image in images])
+    by_overlap = {label: {"people": int(inside.sum()), "recall": round(float(found[inside].mean()), 4)}
+                  for label, inside in (("apart", ~overlapped), ("overlapping another", overlapped)) if inside.any()}
     detections = sum(len(image.boxes) for image in kept)
     return {"score_threshold": round(threshold, 4), "precision": round(float(evaluation.precision[best]), 4),
             "recall": round(float(evaluation.recall[best]), 4), "f1": round(float(f1[best]), 4),
             "false_positives": int(detections - found.sum()), "missed": int((~found).sum()),
-            "recall_by_height": by_height}
+            "recall_by_height": by_height, "recall_by_overlap": by_overlap}
+
+
+def _overlapped(boxes: np.ndarray) -> np.ndarray:
+    """Which ground-truth people overlap another by IoU >= :data:`GROUP_IOU` (groups, partial occlusion)."""
+    iou = box_iou(boxes, boxes)
+    np.fill_diagonal(iou, 0.0)
+    return iou.max(axis=1, initial=0.0) >= GROUP_IOU
 
 
 def _detectors(args: argparse.Namespace) -> dict:
@@ -180,5 +192,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"  at score >= {point['score_threshold']}: precision {point['precision']:.3f}, recall "
               f"{point['recall']:.3f}; recall by height: " + ", ".join(
                   f"{label} {value['recall']:.2f} ({value['people']})"
-                  for label, value in point["recall_by_height"].items()))
+                  for label, value in point["recall_by_height"].items())
+              + "; by overlap: " + ", ".join(f"{label} {value['recall']:.2f} ({value['people']})"
+                                            for label, value in point["recall_by_overlap"].items()))
     return 0
