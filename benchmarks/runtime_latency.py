@@ -48,7 +48,7 @@ def measure(bundle: Path, frames_path: Path, threads: int) -> dict:
 
     frames = np.load(frames_path)
     before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    sequential = Runtime(bundle, threads=threads)
+    sequential = Runtime(bundle, threads=threads, parallel_regions=False)
     loaded = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     index = iter(range(10**9))
     frame_ms = _median_ms(lambda: sequential(frames[next(index) % len(frames)]), len(frames))

@@ -56,18 +56,30 @@ class DecodedPerson:
     mask_cells: np.ndarray  # (h, w) bool at heat-map resolution
 
 
+def _refine_many(heatmaps: np.ndarray, rows: np.ndarray, columns: np.ndarray) -> np.ndarray:
+    """Sub-cell (x, y) of the peak at (rows[k], columns[k]) of each ``heatmaps[k]``: the vertex of a parabola
+    through the peak and its neighbours along each axis (no shift at the border, or where the values do not curve
+    down)."""
+    index = np.arange(len(rows))
+    _, height, width = heatmaps.shape
+    peak = heatmaps[index, rows, columns]
+
+    def shift(before: np.ndarray, after: np.ndarray, inside: np.ndarray) -> np.ndarray:
+        curvature = before - 2.0 * peak + after
+        with np.errstate(divide="ignore", invalid="ignore"):
+            vertex = np.clip(0.5 * (before - after) / curvature, -0.5, 0.5)
+        return np.where(inside & (curvature < 0), vertex, 0.0)
+
+    left, right = np.maximum(columns - 1, 0), np.minimum(columns + 1, width - 1)
+    up, down = np.maximum(rows - 1, 0), np.minimum(rows + 1, height - 1)
+    dx = shift(heatmaps[index, rows, left], heatmaps[index, rows, right], (columns > 0) & (columns < width - 1))
+    dy = shift(heatmaps[index, up, columns], heatmaps[index, down, columns], (rows > 0) & (rows < height - 1))
+    return np.column_stack([columns + dx, rows + dy])
+
+
 def _refine(heatmap: np.ndarray, row: int, column: int) -> np.ndarray:
-    """Sub-cell (x, y) of a peak: the vertex of a parabola through it and its neighbours along each axis."""
-    offsets = []
-    for axis, (index, size) in enumerate(((column, heatmap.shape[1]), (row, heatmap.shape[0]))):
-        if 0 < index < size - 1:
-            before = heatmap[row, index - 1] if axis == 0 else heatmap[index - 1, column]
-            after = heatmap[row, index + 1] if axis == 0 else heatmap[index + 1, column]
-            curvature = before - 2.0 * heatmap[row, column] + after
-            offsets.append(float(np.clip(0.5 * (before - after) / curvature, -0.5, 0.5)) if curvature < 0 else 0.0)
-        else:
-            offsets.append(0.0)
-    return np.array([column + offsets[0], row + offsets[1]])
+    """Sub-cell (x, y) of one peak (see :func:`_refine_many`)."""
+    return _refine_many(heatmap[None], np.array([row]), np.array([column]))[0]
 
 
 def find_peaks(heatmap: np.ndarray, threshold: float, limit: int | None = None) -> list[tuple[float, np.ndarray]]:
@@ -147,17 +159,22 @@ def _keypoints(keypoint_maps: np.ndarray, centre_cells: np.ndarray, height_cells
         return keypoints
     columns = np.arange(x0, x1)
     prior_x = np.exp(-(columns - centre_cells[0]) ** 2 / (2.0 * sigma**2))
-    for k, keypoint_map in enumerate(keypoint_maps):
-        expected_row = centre_cells[1] + UPRIGHT_OFFSETS[k] * height_cells
-        y0, y1 = max(int(round(expected_row)) - reach, 0), min(int(round(expected_row)) + reach + 1, height)
-        if y0 >= y1:  # the expected position is off the map: nothing of this keypoint can be seen
-            continue
-        rows = np.arange(y0, y1)
-        prior = np.exp(-(rows - expected_row) ** 2 / (2.0 * sigma**2))[:, None] * prior_x[None, :]
-        window = keypoint_map[y0:y1, x0:x1]
-        row, column = np.unravel_index(np.argmax(window * prior), window.shape)
-        keypoints[k, :2] = cells_to_input(_refine(keypoint_map, y0 + row, x0 + column), config.stride)
-        keypoints[k, 2] = window[row, column]
+    expected_rows = centre_cells[1] + UPRIGHT_OFFSETS * height_cells
+    starts = np.maximum(np.round(expected_rows).astype(int) - reach, 0)
+    stops = np.minimum(np.round(expected_rows).astype(int) + reach + 1, height)
+    seen = starts < stops  # a keypoint whose expected position is far off the map is not looked for
+    if not seen.any():
+        return keypoints
+    y0, y1 = starts[seen].min(), stops[seen].max()
+    rows = np.arange(y0, y1)
+    in_window = (rows[None] >= starts[:, None]) & (rows[None] < stops[:, None])  # (17, rows)
+    prior_y = np.exp(-(rows[None] - expected_rows[:, None]) ** 2 / (2.0 * sigma**2))
+    window = keypoint_maps[:, y0:y1, x0:x1]
+    weighted = np.where(in_window[:, :, None], window * (prior_y[:, :, None] * prior_x[None, None, :]), -np.inf)
+    best = weighted.reshape(len(weighted), -1).argmax(axis=1)[seen]
+    peak_rows, peak_columns = y0 + best // len(columns), x0 + best % len(columns)
+    keypoints[seen, :2] = cells_to_input(_refine_many(keypoint_maps[seen], peak_rows, peak_columns), config.stride)
+    keypoints[seen, 2] = keypoint_maps[seen, peak_rows, peak_columns]
     return keypoints
 
 

@@ -86,6 +86,9 @@ class RegionRunner:
         options.intra_op_num_threads = threads
         options.inter_op_num_threads = 1
         options.execution_mode = ort.ExecutionMode.ORT_SEQUENTIAL
+        # Regions run one after another: a session whose threads spin-wait after its run would take the cores
+        # from the next region's session.
+        options.add_session_config_entry("session.intra_op.allow_spinning", "0")
         self.session = ort.InferenceSession(entry.model, options, providers=["CPUExecutionProvider"])
         self.input_name = self.session.get_inputs()[0].name
         x0, y0, width, height = entry.crop_window
@@ -141,14 +144,18 @@ class RegionRunner:
 class Runtime:
     """A loaded bundle: ``runtime(frame)`` -> the people in an (H, W, 3) uint8 RGB frame.
 
-    ``threads`` is onnxruntime's intra-op thread count per region model (default: all cores, the regions run one
-    after the other); with ``parallel_regions`` the regions run at once in a thread pool, one thread each,
-    which pays off when regions are small and cores many.
+    ``threads``: the cores to use (default: all). With ``parallel_regions`` the regions run at once in a pool of
+    that many threads, one intra-op thread each; otherwise one after the other, each with all ``threads``. The
+    default (None) runs regions in parallel when there are several: a region's network alone does not keep two
+    cores busy (PETS09, int8, 2 cores: 21 ms per frame in parallel, 28 ms in turn; benchmarks/runtime_latency.py).
     """
 
-    def __init__(self, bundle: Bundle | str | Path, threads: int | None = None, parallel_regions: bool = False):
+    def __init__(self, bundle: Bundle | str | Path, threads: int | None = None,
+                 parallel_regions: bool | None = None):
         self.bundle = bundle if isinstance(bundle, Bundle) else load_bundle(bundle)
         cores = os.cpu_count() or 1
+        if parallel_regions is None:
+            parallel_regions = len(self.bundle.regions) > 1 and (threads or cores) > 1
         per_region = 1 if parallel_regions else (threads or cores)
         self.runners = [RegionRunner(entry, self.bundle.frame_size, per_region) for entry in self.bundle.regions]
         self.pool = ThreadPoolExecutor(max_workers=threads or cores) if parallel_regions else None

@@ -1,6 +1,7 @@
 """``vc-run``: a bundle on real frames, as an appliance would run it.
 
-    vc-run BUNDLE INPUT -o OUT [--frames first:last:step] [--overlay] [--threads N] [--parallel-regions] [--quiet]
+    vc-run BUNDLE INPUT -o OUT [--frames first:last:step] [--overlay] [--threads N] [--[no-]parallel-regions]
+           [--quiet]
 
 INPUT is an image, a folder of images or a video file. Writes ``OUT/detections.jsonl`` (one line per frame: its
 number, name and people with box, score, 17 keypoints with confidences and mask area), ``OUT/summary.json``
@@ -42,7 +43,8 @@ def _parser() -> argparse.ArgumentParser:
                         help="first:last:step, 1-based and inclusive (default: all)")
     parser.add_argument("--overlay", action="store_true", help="also write the frames drawn with their detections")
     parser.add_argument("--threads", type=positive_int, default=None, help="onnxruntime threads (default: all cores)")
-    parser.add_argument("--parallel-regions", action="store_true", help="run the regions at once, one thread each")
+    parser.add_argument("--parallel-regions", action=argparse.BooleanOptionalAction, default=None,
+                        help="run the regions at once, one thread each (default: when there are several)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     return parser
 
@@ -100,7 +102,7 @@ def main(argv: list[str] | None = None) -> int:
             "bundle": str(args.bundle), "scene": runtime.bundle.manifest["scene"], "input": str(args.input),
             "input_kind": source.kind, "frames": len(milliseconds), "people": people_count,
             "regions": [{"name": r.name, "precision": r.precision} for r in runtime.bundle.regions],
-            "threads": args.threads, "parallel_regions": args.parallel_regions,
+            "threads": args.threads, "parallel_regions": runtime.pool is not None,
             "ms_per_frame": {"mean": float(np.mean(milliseconds)), "median": float(np.median(milliseconds)),
                              "p90": float(np.percentile(milliseconds, 90))},
         }
