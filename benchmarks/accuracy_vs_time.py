@@ -200,6 +200,7 @@ def _plot(knob: str, points: list[dict], out: Path) -> None:
                     axis.annotate(point["value"], (point[x_name], point[name]), fontsize=7,
                                   xytext=(3, 3), textcoords="offset points")
         axis.set(xlabel=x_label, ylim=(0, 1.02))
+        axis.set_xlim(left=0)  # times from zero: the ratio between points is what matters
         axis.grid(alpha=0.3)
     axes[0].set_ylabel("accuracy")
     axes[0].legend(fontsize=8)
