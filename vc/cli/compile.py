@@ -163,7 +163,8 @@ def _succeeded(code: int) -> None:
 
 def _summary(state: dict, out: Path) -> str:
     stages = state["stages"]
-    lines = ["", "vc-compile summary", "  stage       seconds"]
+    lines = ["", "vc-compile summary",
+             "  stage       seconds (of the run that did the stage; a resumed stage counts from its resume)"]
     lines += [f"  {name:<10} {record['seconds']:8.0f}" for name, record in stages.items()]
     lines.append(f"  total      {sum(record['seconds'] for record in stages.values()):8.0f}")
     for name, accuracy in stages["train"]["held_out"].items():
