@@ -68,8 +68,8 @@ class SelfTest:
     people_asked_for: int
     ms_per_frame: float  # median, after a warm-up frame
     false_alarms_on_background: int
-    overlay: np.ndarray  # the first test frame drawn with what the bundle found
-    first_people: list[Person]
+    overlay: np.ndarray  # the test frame with the most people, drawn with what the bundle found there
+    overlay_people: list[Person]
 
     def to_dict(self) -> dict:
         return {"ap50": round(self.ap50, 4), "frames": self.frames, "people_asked_for": self.people_asked_for,
@@ -79,7 +79,8 @@ class SelfTest:
 
 def self_test(runtime: Runtime, background: np.ndarray, regions: list[RegionData], frames: int) -> SelfTest:
     false_alarms = len(runtime(background))  # also the warm-up
-    results, milliseconds, overlay, first_people = [], [], None, []
+    results, milliseconds = [], []
+    overlay, overlay_people, most_people = None, [], -1
     for index in range(frames):
         frame = composite_frame(background, regions, index)
         start = time.perf_counter()
@@ -87,9 +88,11 @@ def self_test(runtime: Runtime, background: np.ndarray, regions: list[RegionData
         milliseconds.append((time.perf_counter() - start) * 1e3)
         results.append(ImageResult(frame.truth_boxes, np.array([p.box for p in people]).reshape(-1, 4),
                                    np.array([p.score for p in people]), truth_ignore=frame.truth_ignore))
-        if overlay is None:
-            overlay, first_people = draw_people(frame.image, people, truth_boxes=frame.truth_boxes), people
+        if (~frame.truth_ignore).sum() > most_people:
+            most_people = int((~frame.truth_ignore).sum())
+            overlay = draw_people(frame.image, people, truth_boxes=frame.truth_boxes)
+            overlay_people = people
     evaluation = evaluate(results)
     asked = int(sum((~r.truth_ignore).sum() for r in results))
     return SelfTest(evaluation.ap50, frames, asked, float(np.median(milliseconds)), false_alarms, overlay,
-                    first_people)
+                    overlay_people)
