@@ -17,7 +17,7 @@ import cv2
 import numpy as np
 
 from vc.deploy.metrics import ImageResult, evaluate
-from vc.deploy.runtime import Person, Runtime, in_area
+from vc.deploy.runtime import Runtime, in_area
 from vc.draw import draw_people
 from vc.model.data import RegionData, read_sample
 from vc.model.evaluate import asked_for
@@ -69,7 +69,6 @@ class SelfTest:
     ms_per_frame: float  # median, after a warm-up frame
     false_alarms_on_background: int
     overlay: np.ndarray  # the test frame with the most people, drawn with what the bundle found there
-    overlay_people: list[Person]
 
     def to_dict(self) -> dict:
         return {"ap50": round(self.ap50, 4), "frames": self.frames, "people_asked_for": self.people_asked_for,
@@ -80,7 +79,7 @@ class SelfTest:
 def self_test(runtime: Runtime, background: np.ndarray, regions: list[RegionData], frames: int) -> SelfTest:
     false_alarms = len(runtime(background))  # also the warm-up
     results, milliseconds = [], []
-    overlay, overlay_people, most_people = None, [], -1
+    overlay, most_people = None, -1
     for index in range(frames):
         frame = composite_frame(background, regions, index)
         start = time.perf_counter()
@@ -91,8 +90,6 @@ def self_test(runtime: Runtime, background: np.ndarray, regions: list[RegionData
         if (~frame.truth_ignore).sum() > most_people:
             most_people = int((~frame.truth_ignore).sum())
             overlay = draw_people(frame.image, people, truth_boxes=frame.truth_boxes)
-            overlay_people = people
     evaluation = evaluate(results)
     asked = int(sum((~r.truth_ignore).sum() for r in results))
-    return SelfTest(evaluation.ap50, frames, asked, float(np.median(milliseconds)), false_alarms, overlay,
-                    overlay_people)
+    return SelfTest(evaluation.ap50, frames, asked, float(np.median(milliseconds)), false_alarms, overlay)
