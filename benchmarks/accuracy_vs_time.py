@@ -74,8 +74,9 @@ KNOBS: dict[str, dict[str, Point]] = {
     "effects": {"on": BASE, "off": replace(BASE, effects=False)},
     "samples": {str(v): replace(BASE, samples=v) for v in (1000, 5000, 20000, 50000)},
     "arch": {v: replace(BASE, arch=v) for v in ("fast", "fast-dw", "dense9")},
-    "width": {str(v): replace(BASE, width=v) for v in (16, 32, 64)},
-    "sb_units": {str(v): replace(BASE, sb_units=v) for v in (1, 2, 3)},
+    # the preset's own value is the base point itself (same runs, not a second copy)
+    "width": {"16": replace(BASE, width=16), "32": BASE, "64": replace(BASE, width=64)},
+    "sb_units": {"1": replace(BASE, sb_units=1), "2": replace(BASE, sb_units=2), "3": BASE},
     "input": {f"{v} px": replace(BASE, target_person_px=v) for v in (40, 48, 64, 80)},
     "regions": {"per-region": BASE, "single (SPN-G)": replace(BASE, single_region=True)},
     "precision": {v: replace(BASE, precision=v) for v in ("fp32", "fp16", "int8")},
