@@ -5,7 +5,9 @@
    :data:`MIN_CENTRE_SEPARATION` expected heights to a stronger one is that person's blurred peak, not another.
 2. Each keypoint is the maximum of its map weighted by a Gaussian prior around where that keypoint sits on an
    upright person (:data:`UPRIGHT_OFFSETS`, scaled by the person's expected height): a neighbour's ankle, even
-   if nearer to this centre, loses to this person's own. At most ``max_people`` peaks are decoded.
+   if nearer to this centre, loses to this person's own. At most ``max_people`` peaks are decoded. Pairs come
+   in image order and the handedness maps at the person's centre say which member is the left one
+   (:mod:`vc.deploy.heatmaps`).
 3. The mask cells above ``mask_threshold`` go to the nearest centre (in units of expected height).
 4. The box is scene-specific: its height is the expected height of a person at that image position (the region's
    camera knows it; ``expected_height_px``), centred on the centre peak (the point half the stature above the
@@ -20,7 +22,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vc.deploy.heatmaps import CENTRE_CHANNEL, KEYPOINT_CHANNELS, MASK_CHANNEL, cells_to_input
+from vc.deploy.heatmaps import (
+    ANATOMICAL_CHANNELS,
+    CENTRE_CHANNEL,
+    HANDEDNESS_CHANNELS,
+    HEATMAP_CHANNELS,
+    KEYPOINT_CHANNELS,
+    MASK_CHANNEL,
+    PAIRS,
+    cells_to_input,
+)
 
 #: Where each COCO keypoint sits on an upright person, below (+) or above (-) the centre, in person heights
 #: (surveillance views of pedestrians: heads up, feet down; the prior's width absorbs gait and lean).
@@ -107,10 +118,15 @@ def find_peaks(heatmap: np.ndarray, threshold: float, limit: int | None = None) 
 
 def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
            expected_height_px: np.ndarray | None = None) -> list[DecodedPerson]:
-    """People in one sample's heat maps (19, h, w). ``expected_height_px`` (h, w): the pixel height of a person
-    whose centre is at each cell, from the region's camera; None falls back to ``config.default_height_px``."""
+    """People in one sample's heat maps (C, h, w), C = ``HEATMAP_CHANNELS`` or, from networks trained before the
+    handedness maps, ``ANATOMICAL_CHANNELS``. ``expected_height_px`` (h, w): the pixel height of a person whose
+    centre is at each cell, from the region's camera; None falls back to ``config.default_height_px``."""
     stride = config.stride
-    _, height, width = heatmaps.shape
+    channels, height, width = heatmaps.shape
+    if channels not in (HEATMAP_CHANNELS, ANATOMICAL_CHANNELS):
+        raise ValueError(f"heat maps have {channels} channels; a ScenePoseNet emits {HEATMAP_CHANNELS} (or "
+                         f"{ANATOMICAL_CHANNELS} before handedness maps)")
+    image_ordered = channels == HEATMAP_CHANNELS
     peaks = find_peaks(heatmaps[CENTRE_CHANNEL], config.centre_threshold, config.max_people)
     if not peaks:
         return []
@@ -133,6 +149,9 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     keypoint_maps = heatmaps[KEYPOINT_CHANNELS]
     for index, (score, centre_cells) in enumerate(peaks):
         keypoints = _keypoints(keypoint_maps, centre_cells, heights_cells[index], config)
+        if image_ordered:
+            row, column = int(round(centre_cells[1])), int(round(centre_cells[0]))
+            keypoints = _anatomical(keypoints, heatmaps[HANDEDNESS_CHANNELS, row, column])
         within_reach = ((np.abs(columns - centre_cells[0]) <= REACH_FRACTION[0] * heights_cells[index])
                         & (np.abs(rows - centre_cells[1]) <= REACH_FRACTION[1] * heights_cells[index]))
         mask_cells = foreground & (owner == index) & within_reach
@@ -175,6 +194,15 @@ def _keypoints(keypoint_maps: np.ndarray, centre_cells: np.ndarray, height_cells
     peak_rows, peak_columns = y0 + best // len(columns), x0 + best % len(columns)
     keypoints[seen, :2] = cells_to_input(_refine_many(keypoint_maps[seen], peak_rows, peak_columns), config.stride)
     keypoints[seen, 2] = keypoint_maps[seen, peak_rows, peak_columns]
+    return keypoints
+
+
+def _anatomical(keypoints: np.ndarray, handedness: np.ndarray) -> np.ndarray:
+    """Image-ordered keypoints (17, 3) -> anatomical: a pair whose handedness is negative (its image-left member is
+    the person's right one) swaps."""
+    for (left, right), sign in zip(PAIRS, handedness, strict=True):
+        if sign < 0:
+            keypoints[[left, right]] = keypoints[[right, left]]
     return keypoints
 
 

@@ -4,8 +4,12 @@ network, as mmpose keeps its codecs).
 * Centre: a Gaussian at the person's centre (the point half its stature above the feet), sigma a fixed fraction of
   the person's full (amodal) height, so near and far people look alike relative to their size.
 * Keypoints: a Gaussian per labelled keypoint (visible or occluded; unlabelled ones get nothing), sigma a smaller
-  fraction of the height.
+  fraction of the height; left/right pairs in image order (:mod:`vc.deploy.heatmaps` says why), as the
+  annotation's ``left_is_image_left`` (one flag per pair, from the person's 3-D keypoints) sorts them.
 * Mask: the fraction of each cell covered by people (area average of the instance mask).
+* Handedness: per pair, +1 (left is image-left) or -1 times the fraction of each cell covered by that person
+  (its ``instance_id`` in the instance mask); 0 elsewhere. Annotations without the flags get no handedness and
+  keep their pairs in anatomical order.
 
 Several people combine by maximum (Gaussians) so that neighbours do not merge into one peak. Decoding lives in
 :mod:`vc.deploy.decode` and uses the same cell geometry (:mod:`vc.deploy.heatmaps`).
@@ -20,9 +24,11 @@ import numpy as np
 from vc.calibration.camera import Camera
 from vc.deploy.heatmaps import (
     CENTRE_CHANNEL,
+    HANDEDNESS_CHANNELS,
     HEATMAP_CHANNELS,
     KEYPOINT_CHANNELS,
     MASK_CHANNEL,
+    PAIRS,
     cells_to_input,
     input_to_cells,
 )
@@ -62,7 +68,8 @@ def person_height_px(annotation: dict) -> float:
 
 
 def encode(annotations: list[dict], instances: np.ndarray, config: CodecConfig = CodecConfig()) -> np.ndarray:
-    """Heat maps (19, H/stride, W/stride) float32 for one sample: its annotations and (H, W) instance mask."""
+    """Heat maps (HEATMAP_CHANNELS, H/stride, W/stride) float32 for one sample: its annotations and (H, W)
+    instance mask."""
     height, width = instances.shape
     stride = config.stride
     if height % stride or width % stride:
@@ -76,13 +83,31 @@ def encode(annotations: list[dict], instances: np.ndarray, config: CodecConfig =
             _draw_gaussian(heatmaps[CENTRE_CHANNEL], input_to_cells(annotation["center"], stride), sigma)
         sigma = max(config.keypoint_sigma * size_cells, config.min_sigma_cells)
         keypoints = np.asarray(annotation["keypoints"], np.float64).reshape(-1, 3)
+        if annotation.get("left_is_image_left") is not None:
+            keypoints = image_ordered(keypoints, annotation["left_is_image_left"])
         for channel, (u, v, visibility) in zip(range(KEYPOINT_CHANNELS.start, KEYPOINT_CHANNELS.stop), keypoints,
                                                strict=True):
             if visibility > 0:
                 _draw_gaussian(heatmaps[channel], input_to_cells([u, v], stride), sigma)
     covered = (instances > 0).astype(np.float32)
     heatmaps[MASK_CHANNEL] = covered.reshape(cells[0], stride, cells[1], stride).mean(axis=(1, 3))
+    for annotation in annotations:
+        if annotation.get("left_is_image_left") is None:
+            continue
+        coverage = (instances == annotation["instance_id"]).reshape(cells[0], stride, cells[1], stride).mean(
+            axis=(1, 3), dtype=np.float32)
+        sign = np.where(annotation["left_is_image_left"], 1.0, -1.0).astype(np.float32)
+        heatmaps[HANDEDNESS_CHANNELS] += coverage[None] * sign[:, None, None]
     return heatmaps
+
+
+def image_ordered(keypoints: np.ndarray, left_is_image_left: list[bool]) -> np.ndarray:
+    """(17, k) keypoints with each pair (:data:`PAIRS`) whose left member is not the image-left one swapped."""
+    ordered = np.array(keypoints, copy=True)
+    for (left, right), in_order in zip(PAIRS, left_is_image_left, strict=True):
+        if not in_order:
+            ordered[[left, right]] = ordered[[right, left]]
+    return ordered
 
 
 def expected_height_map(camera: Camera, stride: int, height_m: float) -> np.ndarray:

@@ -9,10 +9,12 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass, fields
 
-# The output heat maps' layout (centre, 17 COCO keypoints, mask) is the decoder's: one definition, in deploy.
-from vc.deploy.heatmaps import HEATMAP_CHANNELS
+# The output heat maps' layout (centre, 17 COCO keypoints, mask, handedness) is the decoder's: one definition,
+# in deploy.
+from vc.deploy.heatmaps import ANATOMICAL_CHANNELS, HEATMAP_CHANNELS
 
-__all__ = ["DEFAULT_ARCH", "HEATMAP_CHANNELS", "PRESETS", "STEM_STRIDES", "NetworkConfig", "network_config"]
+__all__ = ["ANATOMICAL_CHANNELS", "DEFAULT_ARCH", "HEATMAP_CHANNELS", "PRESETS", "STEM_STRIDES", "NetworkConfig",
+           "network_config"]
 
 STEM_STRIDES = (1, 2, 4)
 
@@ -37,6 +39,7 @@ class NetworkConfig:
     sb_reduction: int = 1  # 1: two full-width k x k convolutions (the paper); r > 1: a 1x1 -> k x k -> 1x1
     # bottleneck whose one k x k runs at width/r channels (He et al., 2016), about 2r^2 times cheaper
     belief_channels: int = HEATMAP_CHANNELS  # belief maps each SB unit emits through its 1x1 path
+    heatmap_channels: int = HEATMAP_CHANNELS  # output maps; ANATOMICAL_CHANNELS for networks from before handedness
 
     def __post_init__(self) -> None:
         problems = []
@@ -48,9 +51,12 @@ class NetworkConfig:
             problems.append(f"sb_reduction must be >= 1 and divide width {self.width}, got {self.sb_reduction}")
         if self.sb_kernel < 1 or self.sb_kernel % 2 == 0:
             problems.append(f"sb_kernel must be odd so that 'same' padding keeps maps aligned, got {self.sb_kernel}")
-        if self.intermediate_supervision and self.belief_channels != HEATMAP_CHANNELS:
-            problems.append(f"intermediate supervision compares beliefs with the {HEATMAP_CHANNELS} target heat "
-                            f"maps, so belief_channels must be {HEATMAP_CHANNELS}, got {self.belief_channels}")
+        if self.heatmap_channels not in (HEATMAP_CHANNELS, ANATOMICAL_CHANNELS):
+            problems.append(f"heatmap_channels must be {HEATMAP_CHANNELS} (or {ANATOMICAL_CHANNELS} before "
+                            f"handedness maps), got {self.heatmap_channels}")
+        if self.intermediate_supervision and self.belief_channels != self.heatmap_channels:
+            problems.append(f"intermediate supervision compares beliefs with the {self.heatmap_channels} target heat "
+                            f"maps, so belief_channels must be {self.heatmap_channels}, got {self.belief_channels}")
         if problems:
             raise ValueError(f"invalid network config {self.name!r}: " + "; ".join(problems))
 
@@ -59,6 +65,9 @@ class NetworkConfig:
 
     @classmethod
     def from_dict(cls, data: dict) -> NetworkConfig:
+        """The config written by :meth:`to_dict`. Configs written before the handedness maps have no
+        ``heatmap_channels``: their networks emit the :data:`ANATOMICAL_CHANNELS` maps."""
+        data = {"heatmap_channels": ANATOMICAL_CHANNELS, **data}
         known = {field.name for field in fields(cls)}
         unknown, missing = sorted(set(data) - known), sorted(known - set(data))
         if unknown or missing:

@@ -19,6 +19,8 @@ import numpy as np
 import torch
 from torch.utils.data import Dataset
 
+from vc.calibration.camera import Camera, camera_from_dict
+from vc.deploy.heatmaps import PAIRS
 from vc.errors import InputError
 from vc.io import read_image
 from vc.model.codec import CodecConfig, encode
@@ -58,13 +60,14 @@ def read_manifest(root: Path) -> dict:
         raise InputError(path, "", f"cannot read the dataset manifest ({error})") from None
 
 
-def _shard_samples(shard: Path) -> list[Sample]:
+def _shard_samples(shard: Path, camera: Camera) -> list[Sample]:
     path = shard / ANNOTATIONS
     try:
         document = json.loads(path.read_text())
         images = document["images"]
         by_image: dict[int, list[dict]] = {image["id"]: [] for image in images}
         for annotation in document["annotations"]:
+            annotation["left_is_image_left"] = _left_is_image_left(annotation, camera)
             by_image[annotation["image_id"]].append(annotation)
     except FileNotFoundError:
         raise InputError(path, "", "shard has no annotations (an interrupted render? run vc-render again)") from None
@@ -82,6 +85,20 @@ def _shard_samples(shard: Path) -> list[Sample]:
     return samples
 
 
+def _left_is_image_left(annotation: dict, camera: Camera) -> list[bool]:
+    """Per keypoint pair, whether the person's left member lies further left in the region's image than the right
+    one: the codec's image order (:mod:`vc.deploy.heatmaps`). From the 3-D keypoints that vc-render records, so
+    that it is defined for keypoints outside the image too; annotations without them are ordered by their
+    labelled pixels (a pair with an unlabelled member keeps its anatomical order)."""
+    keypoints_m = annotation.get("attributes", {}).get("keypoints_m")
+    if keypoints_m is not None:
+        x = camera.project(np.asarray(keypoints_m, np.float64)).uv[:, 0]
+        return [bool(x[left] <= x[right]) for left, right in PAIRS]
+    labels = np.reshape(annotation["keypoints"], (-1, 3))
+    return [bool(labels[left, 2] == 0 or labels[right, 2] == 0 or labels[left, 0] <= labels[right, 0])
+            for left, right in PAIRS]
+
+
 def open_region(root: Path, region: str, held_out_fraction: float = 0.1) -> RegionData:
     """Check and index one region of the dataset at ``root``."""
     manifest = read_manifest(root)
@@ -97,8 +114,9 @@ def open_region(root: Path, region: str, held_out_fraction: float = 0.1) -> Regi
                                             "evaluation, so it needs at least 2 (render more samples or a smaller "
                                             "--shard-size)")
     held = max(1, round(len(shards) * held_out_fraction))
-    train = [s for shard in shards[:len(shards) - held] for s in _shard_samples(shard)]
-    held_out = [s for shard in shards[len(shards) - held:] for s in _shard_samples(shard)]
+    camera = camera_from_dict(regions[region]["camera"])
+    train = [s for shard in shards[:len(shards) - held] for s in _shard_samples(shard, camera)]
+    held_out = [s for shard in shards[len(shards) - held:] for s in _shard_samples(shard, camera)]
     return RegionData(region, manifest, regions[region], train, held_out)
 
 
@@ -135,7 +153,8 @@ def shifted(annotation: dict, dx: float, dy: float) -> dict:
     keypoints = np.reshape(annotation["keypoints"], (-1, 3)) + [dx, dy, 0.0]
     centre = annotation.get("center")
     return {"center": None if centre is None else [centre[0] + dx, centre[1] + dy],
-            "keypoints": keypoints.ravel().tolist(), "amodal_bbox": annotation["amodal_bbox"]}
+            "keypoints": keypoints.ravel().tolist(), "amodal_bbox": annotation["amodal_bbox"],
+            "left_is_image_left": annotation.get("left_is_image_left"), "instance_id": annotation.get("instance_id")}
 
 
 @dataclass(frozen=True)

@@ -66,7 +66,7 @@ class RegionEvaluation:
     images: list[ImageResult]
 
 
-#: Heat maps of a batch of region inputs: (N, H, W, 3) uint8 RGB -> (N, 19, h, w) float.
+#: Heat maps of a batch of region inputs: (N, H, W, 3) uint8 RGB -> (N, C, h, w) float.
 HeatmapSource = Callable[[np.ndarray], np.ndarray]
 
 

@@ -2,9 +2,10 @@
 
 The graph takes the region's crop of the frame exactly as the camera delivers it — uint8, (1, crop height,
 crop width, 3), RGB — and does the rest itself: resize to the network input (bilinear, half-pixel centres, as
-``cv2.INTER_LINEAR`` made the training backgrounds), scale to [0, 1], the network, and returns the 19 heat maps
-(1, 19, h, w). Shapes are fixed (one region, one crop window), opset 17, the classic TorchScript exporter
-(no ``onnxscript`` needed); the network's config and the region travel as metadata.
+``cv2.INTER_LINEAR`` made the training backgrounds), scale to [0, 1], the network, and returns its heat maps
+(1, C, h, w) in the layout of :mod:`vc.deploy.heatmaps`. Shapes are fixed (one region, one crop window), opset
+17, the classic TorchScript exporter (no ``onnxscript`` needed); the network's config and the region travel as
+metadata.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from torch import Tensor, nn
 
 from vc.calibration.camera import camera_from_dict
 from vc.deploy.bundle import BUNDLE_FORMAT, BUNDLE_FORMAT_VERSION, MANIFEST, MODELS, sha256
+from vc.deploy.heatmaps import channel_names
 from vc.errors import InputError
 from vc.io import atomic_directory, atomic_path
 from vc.keypoints import COCO_KEYPOINTS, COCO_SKELETON_1BASED
@@ -131,6 +133,7 @@ def bundle_files(run: Path, precision: str = "fp32", eval_samples: int = 200, ca
     """
     checkpoints = _finished_checkpoints(run)
     first = checkpoints[0].content
+    first_config = TrainConfig.from_dict(first["train_config"])
     files: dict[str, bytes] = {}
     regions = []
     for checkpoint in checkpoints:
@@ -167,7 +170,7 @@ def bundle_files(run: Path, precision: str = "fp32", eval_samples: int = 200, ca
         "frame_size": first["scene_camera"]["size"],
         "precision": precisions[0] if len(precisions) == 1 else "mixed",
         "input": {"name": INPUT_NAME, "dtype": "uint8", "layout": "NHWC RGB, the region's crop window of the frame"},
-        "output": {"name": OUTPUT_NAME, "channels": ["centre", *COCO_KEYPOINTS, "mask"]},
+        "output": {"name": OUTPUT_NAME, "channels": list(channel_names(first_config.network.heatmap_channels))},
         "keypoints": list(COCO_KEYPOINTS), "skeleton": [list(pair) for pair in COCO_SKELETON_1BASED],
         "regions": regions, "versions": package_versions(),
     }

@@ -1,6 +1,9 @@
-"""The paper's loss: alpha * MSE(detection) + beta * mean MSE(pose) + gamma * MSE(segmentation).
+"""The paper's loss: alpha * MSE(detection) + beta * mean MSE(pose) + gamma * MSE(segmentation), plus
+delta * mean MSE(handedness) for the maps that tell which member of each keypoint pair is the left one
+(:mod:`vc.deploy.heatmaps`).
 
-Each term is a mean squared error over its heat-map pixels (the pose term the mean over the 17 keypoint maps).
+Each term is a mean squared error over its heat-map pixels (the pose and handedness terms the mean over their
+maps).
 With intermediate supervision every SB unit's belief maps are held to the same targets and their losses added
 (as in convolutional pose machines), so early units learn usable beliefs instead of whatever helps the last one.
 """
@@ -12,12 +15,12 @@ from dataclasses import asdict, dataclass
 import torch
 from torch import Tensor
 
-from vc.deploy.heatmaps import CENTRE_CHANNEL, KEYPOINT_CHANNELS, MASK_CHANNEL
+from vc.deploy.heatmaps import CENTRE_CHANNEL, HANDEDNESS_CHANNELS, KEYPOINT_CHANNELS, MASK_CHANNEL
 
 
 @dataclass(frozen=True)
 class LossWeights:
-    """alpha, beta, gamma of the paper's loss.
+    """alpha, beta, gamma of the paper's loss and delta of the handedness term.
 
     A keypoint Gaussian covers about (0.025/0.08)^2 = 1/10 of a centre Gaussian's area (model.codec), so its
     per-pixel MSE is about ten times smaller; ``pose`` makes up for that so that pose is not learned last.
@@ -26,19 +29,21 @@ class LossWeights:
     detection: float = 1.0
     pose: float = 10.0
     segmentation: float = 1.0
+    handedness: float = 1.0
 
     def to_dict(self) -> dict:
         return asdict(self)
 
 
 def heatmap_terms(prediction: Tensor, targets: Tensor) -> dict[str, Tensor]:
-    """The three MSE terms of one prediction (B, 19, h, w) against its targets (same shape), unweighted."""
+    """The MSE terms of one prediction (B, HEATMAP_CHANNELS, h, w) against its targets (same shape), unweighted."""
     if prediction.shape != targets.shape:
         raise ValueError(f"prediction {tuple(prediction.shape)} and targets {tuple(targets.shape)} differ in shape")
     squared = (prediction - targets).square()
     return {"detection": squared[:, CENTRE_CHANNEL].mean(),
             "pose": squared[:, KEYPOINT_CHANNELS].mean(),  # = mean over keypoints of each map's MSE
-            "segmentation": squared[:, MASK_CHANNEL].mean()}
+            "segmentation": squared[:, MASK_CHANNEL].mean(),
+            "handedness": squared[:, HANDEDNESS_CHANNELS].mean()}
 
 
 def scene_pose_loss(outputs: dict[str, Tensor | list[Tensor]], targets: Tensor,
@@ -52,7 +57,7 @@ def scene_pose_loss(outputs: dict[str, Tensor | list[Tensor]], targets: Tensor,
     for stage, prediction in enumerate([*outputs["beliefs"], outputs["heatmaps"]]):
         terms = heatmap_terms(prediction, targets)
         total = total + (weights.detection * terms["detection"] + weights.pose * terms["pose"]
-                         + weights.segmentation * terms["segmentation"])
+                         + weights.segmentation * terms["segmentation"] + weights.handedness * terms["handedness"])
         if stage == len(outputs["beliefs"]):
             final_terms = terms
     return total, {name: float(value.detach()) for name, value in final_terms.items()}

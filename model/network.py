@@ -14,7 +14,7 @@ from __future__ import annotations
 import torch
 from torch import Tensor, nn
 
-from vc.model.config import HEATMAP_CHANNELS, NetworkConfig
+from vc.model.config import NetworkConfig
 
 #: The image in [0, 1] is centred to [-1, 1] inside the network, so an exported graph needs only uint8 -> /255 in
 #: front. The exact statistics hardly matter (batch norm follows the stem); centring keeps the stem well conditioned.
@@ -109,7 +109,8 @@ def _stem(config: NetworkConfig) -> nn.Sequential:
 
 
 class ScenePoseNet(nn.Module):
-    """Image (B, 3, H, W) in [0, 1] -> heat maps (B, 19, ceil(H/s), ceil(W/s)) for the stem stride s.
+    """Image (B, 3, H, W) in [0, 1] -> heat maps (B, C, ceil(H/s), ceil(W/s)) for the stem stride s and the
+    config's ``heatmap_channels`` C (the layout of :mod:`vc.deploy.heatmaps`).
 
     ``forward`` returns ``{"heatmaps": ..., "beliefs": [...]}``. ``beliefs`` holds each SB unit's belief maps when
     the config asks for intermediate supervision and is empty otherwise, so a loss can always iterate over it.
@@ -126,7 +127,7 @@ class ScenePoseNet(nn.Module):
         self.sb_units = nn.ModuleList(SpatialBeliefUnit(config, first=i == 0) for i in range(config.sb_units))
         self.head = nn.Sequential(nn.Conv2d(config.sb_units * config.belief_channels, config.width, 1, bias=False),
                                   nn.BatchNorm2d(config.width), nn.ReLU(inplace=True),
-                                  nn.Conv2d(config.width, HEATMAP_CHANNELS, 1))
+                                  nn.Conv2d(config.width, config.heatmap_channels, 1))
         self._initialise()
 
     def _initialise(self) -> None:

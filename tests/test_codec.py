@@ -10,12 +10,23 @@ import numpy as np
 import pytest
 
 from vc.deploy.decode import DecodeConfig, decode, find_peaks
-from vc.deploy.heatmaps import CENTRE_CHANNEL, HEATMAP_CHANNELS, MASK_CHANNEL, cells_to_input, input_to_cells
+from vc.deploy.heatmaps import (
+    ANATOMICAL_CHANNELS,
+    CENTRE_CHANNEL,
+    HANDEDNESS_CHANNELS,
+    HEATMAP_CHANNELS,
+    KEYPOINT_CHANNELS,
+    MASK_CHANNEL,
+    PAIRS,
+    cells_to_input,
+    input_to_cells,
+)
 from vc.model.codec import CodecConfig, encode
 
 STRIDE = 4
 WIDTH, HEIGHT = 256, 192
-#: A standing person's COCO keypoints as fractions of its height, relative to the centre (x right, y down).
+#: A standing person facing the camera (its left side on the image's right): COCO keypoints as fractions of its
+#: height, relative to the centre (x right, y down).
 BODY = np.array([
     [0.0, -0.43], [0.02, -0.45], [-0.02, -0.45], [0.05, -0.44], [-0.05, -0.44],
     [0.11, -0.32], [-0.11, -0.32], [0.14, -0.14], [-0.14, -0.14], [0.15, 0.02], [-0.15, 0.02],
@@ -23,16 +34,18 @@ BODY = np.array([
 ])
 
 
-def _person(centre: tuple[float, float], height: float, instance_id: int, hidden: tuple[int, ...] = ()) -> dict:
-    keypoints = np.asarray(centre) + BODY * height
+def _person(centre: tuple[float, float], height: float, instance_id: int, hidden: tuple[int, ...] = (),
+            facing_away: bool = False) -> dict:
+    keypoints = np.asarray(centre) + BODY * [-1.0 if facing_away else 1.0, 1.0] * height
     visibility = np.full(17, 2)
     visibility[list(hidden)] = 1
     x0, y0 = centre[0] - 0.2 * height, centre[1] - 0.5 * height
     return {"center": list(centre), "keypoints": np.c_[keypoints, visibility].ravel().tolist(),
-            "amodal_bbox": [x0, y0, 0.4 * height, height], "instance_id": instance_id}
+            "amodal_bbox": [x0, y0, 0.4 * height, height], "instance_id": instance_id,
+            "left_is_image_left": [facing_away] * len(PAIRS)}
 
 
-PEOPLE = [_person((60.3, 95.7), 100.0, 1), _person((150.8, 80.2), 70.0, 2, hidden=(3, 9)),
+PEOPLE = [_person((60.3, 95.7), 100.0, 1), _person((150.8, 80.2), 70.0, 2, hidden=(3, 9), facing_away=True),
           _person((215.1, 110.6), 140.0, 3)]
 
 
@@ -63,9 +76,27 @@ def test_encoded_maps_have_unit_peaks_at_the_labels_and_the_mask_is_coverage() -
     instances = _instances(PEOPLE)
     heatmaps = encode(PEOPLE, instances, CodecConfig(stride=STRIDE))
     assert heatmaps.shape == (HEATMAP_CHANNELS, HEIGHT // STRIDE, WIDTH // STRIDE)
-    assert heatmaps.dtype == np.float32 and 0.0 <= heatmaps.min() and heatmaps.max() <= 1.0
+    assert heatmaps.dtype == np.float32 and np.abs(heatmaps).max() <= 1.0
+    assert heatmaps[:HANDEDNESS_CHANNELS.start].min() >= 0.0  # handedness alone is signed
     assert len(find_peaks(heatmaps[CENTRE_CHANNEL], 0.3)) == 3
     assert heatmaps[MASK_CHANNEL].mean() == pytest.approx((instances > 0).mean())
+
+
+def test_pairs_are_stored_in_image_order_and_handedness_covers_the_person() -> None:
+    facing, away = _person((60.3, 95.7), 100.0, 1), _person((180.2, 95.7), 100.0, 2, facing_away=True)
+    instances = _instances([facing, away])
+    heatmaps = encode([facing, away], instances, CodecConfig(stride=STRIDE))
+    image_left_shoulder = heatmaps[KEYPOINT_CHANNELS.start + 5]
+    for person in (facing, away):  # the image-left slot peaks at whichever shoulder is further left
+        shoulders = np.asarray(person["keypoints"]).reshape(-1, 3)[5:7, :2]
+        x, y = np.round(input_to_cells(shoulders[shoulders[:, 0].argmin()], STRIDE)).astype(int)
+        assert image_left_shoulder[y, x] > 0.5
+    cells = (HEIGHT // STRIDE, STRIDE, WIDTH // STRIDE, STRIDE)
+    coverage = {i: (instances == i).reshape(cells).mean(axis=(1, 3)) for i in (1, 2)}
+    # Facing the camera, the image-left member is the person's right one: -1; facing away +1; nobody's cells 0.
+    np.testing.assert_allclose(heatmaps[HANDEDNESS_CHANNELS], np.broadcast_to(coverage[2] - coverage[1],
+                                                                              heatmaps[HANDEDNESS_CHANNELS].shape))
+    assert coverage[1].max() == coverage[2].max() == 1.0
 
 
 def test_round_trip_recovers_people_keypoints_and_boxes() -> None:
@@ -84,6 +115,16 @@ def test_round_trip_recovers_people_keypoints_and_boxes() -> None:
         assert match.box[3] - match.box[1] == pytest.approx(h)
         assert match.box[0] <= truth[:, 0].min() and match.box[2] >= truth[:, 0].max()
         assert match.mask_cells.sum() > 0
+
+
+def test_maps_of_networks_from_before_handedness_decode_as_anatomical() -> None:
+    person = _person((60.3, 95.7), 100.0, 1) | {"left_is_image_left": None}
+    heatmaps = encode([person], _instances([person]), CodecConfig(stride=STRIDE))[:ANATOMICAL_CHANNELS]
+    decoded = decode(heatmaps, DecodeConfig(stride=STRIDE), np.full(heatmaps.shape[1:], 100.0))
+    truth = np.asarray(person["keypoints"]).reshape(-1, 3)
+    assert np.linalg.norm(decoded[0].keypoints[:, :2] - truth[:, :2], axis=1).max() < STRIDE
+    with pytest.raises(ValueError, match="channels"):
+        decode(np.zeros((ANATOMICAL_CHANNELS + 1, 8, 8), np.float32))
 
 
 def test_empty_and_flat_maps_decode_to_nobody() -> None:

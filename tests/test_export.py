@@ -20,7 +20,8 @@ from dataset_factory import INPUT_SIZE, region_camera, sample, write_dataset
 
 from vc.cli.export import main as vc_export
 from vc.deploy.bundle import load_bundle
-from vc.deploy.decode import decode
+from vc.deploy.decode import DecodeConfig, decode
+from vc.deploy.heatmaps import HEATMAP_CHANNELS, channel_names
 from vc.deploy.runtime import Runtime, in_area
 from vc.errors import InputError
 from vc.model.data import open_region
@@ -54,9 +55,11 @@ def test_onnxruntime_matches_pytorch(crop, input_size):
     exported = session.run(None, {"crop": frame})[0]
     with torch.no_grad():
         reference = DeployedNetwork(net, crop, input_size)(torch.from_numpy(frame)).numpy()
-    assert exported.shape == reference.shape == (1, 19, input_size[1] // 4, input_size[0] // 4)
+    assert exported.shape == reference.shape == (1, HEATMAP_CHANNELS, input_size[1] // 4, input_size[0] // 4)
     assert np.max(np.abs(exported - reference)) <= 1e-4
-    people = decode(exported[0]), decode(reference[0])
+    # Random weights: decode the strongest tenth of the centre map so that there are people to compare.
+    config = DecodeConfig(centre_threshold=float(np.quantile(reference[0, 0], 0.9)))
+    people = decode(exported[0], config), decode(reference[0], config)
     assert len(people[0]) == len(people[1]) > 0
     for a, b in zip(*people, strict=True):
         assert np.allclose(a.box, b.box, atol=1e-3) and np.allclose(a.keypoints, b.keypoints, atol=1e-3)
@@ -66,6 +69,7 @@ def test_the_bundle_lists_every_file_with_its_hash(bundle):
     manifest = json.loads((bundle / "manifest.json").read_text())
     assert manifest["format_version"] == 1 and manifest["frame_size"] == list(INPUT_SIZE)
     assert len(manifest["keypoints"]) == 17 and len(manifest["skeleton"]) == 19
+    assert manifest["output"]["channels"] == list(channel_names()) and len(channel_names()) == HEATMAP_CHANNELS
     region = manifest["regions"][0]
     assert region["name"] == "r0" and region["crop_window"] == [0, 0, *INPUT_SIZE]
     assert {"onnx", "onnxruntime", "torch"} <= set(manifest["versions"])

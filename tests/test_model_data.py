@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from vc.deploy.heatmaps import CENTRE_CHANNEL, MASK_CHANNEL
+from vc.deploy.heatmaps import CENTRE_CHANNEL, HANDEDNESS_CHANNELS, HEATMAP_CHANNELS, MASK_CHANNEL, PAIRS
 from vc.errors import InputError
 from vc.model.codec import CodecConfig
 from vc.model.data import Augmentation, TrainingStream, open_region
@@ -50,7 +50,7 @@ def test_items_are_images_and_their_encoded_labels(small_dataset) -> None:
         index = dataset.sample_index(draw)
         image, targets = dataset[draw]
         assert image.shape == (3, height, width) and 0.0 <= float(image.min()) and float(image.max()) <= 1.0
-        assert targets.shape == (19, height // 4, width // 4)
+        assert targets.shape == (HEATMAP_CHANNELS, height // 4, width // 4)
         annotations = data.train[index].annotations
         people += len(annotations)
         centre_inside = any(a["center"] is not None and 0 <= a["center"][0] < width and 0 <= a["center"][1] < height
@@ -58,7 +58,24 @@ def test_items_are_images_and_their_encoded_labels(small_dataset) -> None:
         assert (float(targets[CENTRE_CHANNEL].max()) > 0.5) == centre_inside
         if annotations:
             assert float(targets[MASK_CHANNEL].max()) > 0.0
+            assert float(targets[HANDEDNESS_CHANNELS].abs().max()) > 0.0
     assert people > 0
+
+
+def test_image_order_of_keypoint_pairs_agrees_with_the_labels(small_dataset) -> None:
+    """The order comes from the 3-D keypoints through the region camera; where both members are labelled and
+    apart, it must be the order of their labelled pixels."""
+    data = open_region(small_dataset, "r0")
+    compared = 0
+    for sample in data.train + data.held_out:
+        for annotation in sample.annotations:
+            keypoints = np.reshape(annotation["keypoints"], (-1, 3))
+            for (left, right), left_first in zip(PAIRS, annotation["left_is_image_left"], strict=True):
+                labelled = keypoints[left, 2] > 0 and keypoints[right, 2] > 0
+                if labelled and abs(keypoints[left, 0] - keypoints[right, 0]) > 0.01:
+                    assert left_first == (keypoints[left, 0] < keypoints[right, 0])
+                    compared += 1
+    assert compared > 20
 
 
 def test_augmentation_is_deterministic_per_draw(small_dataset) -> None:

@@ -11,7 +11,14 @@ import pytest
 import torch
 from torch import nn
 
-from vc.model.config import DEFAULT_ARCH, HEATMAP_CHANNELS, PRESETS, NetworkConfig, network_config
+from vc.model.config import (
+    ANATOMICAL_CHANNELS,
+    DEFAULT_ARCH,
+    HEATMAP_CHANNELS,
+    PRESETS,
+    NetworkConfig,
+    network_config,
+)
 from vc.model.network import ScenePoseNet
 from vc.scenes.schema import RegionPlanSpec
 
@@ -139,6 +146,16 @@ def test_config_round_trips_through_json(name):
     assert NetworkConfig.from_dict(json.loads(json.dumps(config.to_dict()))) == config
 
 
+def test_configs_from_before_handedness_maps_build_the_anatomical_network():
+    """Checkpoints and bundles written before the handedness maps carry no ``heatmap_channels``; they must load as
+    the 19-map networks they were trained as."""
+    old = {key: value for key, value in network_config(DEFAULT_ARCH).to_dict().items() if key != "heatmap_channels"}
+    config = NetworkConfig.from_dict({**old, "belief_channels": ANATOMICAL_CHANNELS})
+    assert config.heatmap_channels == ANATOMICAL_CHANNELS
+    heatmaps = ScenePoseNet(config).eval()(torch.rand(1, 3, 64, 64))["heatmaps"]
+    assert heatmaps.shape[1] == ANATOMICAL_CHANNELS
+
+
 def test_config_rejects_bad_fields_and_values():
     data = TINY.to_dict()
     with pytest.raises(ValueError, match="unknown \\['depth'\\]"):
@@ -149,7 +166,9 @@ def test_config_rejects_bad_fields_and_values():
         replace(TINY, stem_stride=3)
     with pytest.raises(ValueError, match="odd"):
         replace(TINY, sb_kernel=8)
-    with pytest.raises(ValueError, match="belief_channels must be 19"):
+    with pytest.raises(ValueError, match=f"belief_channels must be {HEATMAP_CHANNELS}"):
         replace(TINY, intermediate_supervision=True)
+    with pytest.raises(ValueError, match="heatmap_channels must be"):
+        replace(TINY, heatmap_channels=20)
     with pytest.raises(ValueError, match="unknown network preset"):
         network_config("huge")

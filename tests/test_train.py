@@ -13,6 +13,7 @@ import torch
 from dataset_factory import INPUT_SIZE, write_dataset
 
 from vc.cli.train import main as vc_train
+from vc.deploy.heatmaps import HEATMAP_CHANNELS
 from vc.errors import InputError
 from vc.model.codec import CodecConfig, encode
 from vc.model.config import network_config
@@ -39,18 +40,20 @@ def test_loss_is_finite_on_empty_targets_and_constant_images(value):
     torch.manual_seed(0)
     net = ScenePoseNet(SMALL)
     outputs = net(torch.full((2, 3, 64, 64), value))
-    loss, terms = scene_pose_loss(outputs, torch.zeros(2, 19, 16, 16))
+    loss, terms = scene_pose_loss(outputs, torch.zeros(2, HEATMAP_CHANNELS, 16, 16))
     loss.backward()
     assert torch.isfinite(loss) and all(np.isfinite(v) for v in terms.values())
     assert all(torch.isfinite(p.grad).all() for p in net.parameters() if p.grad is not None)
 
 
 def test_loss_weights_scale_their_own_terms():
-    prediction, targets = torch.rand(2, 19, 8, 8), torch.rand(2, 19, 8, 8)
+    prediction, targets = torch.rand(2, HEATMAP_CHANNELS, 8, 8), torch.rand(2, HEATMAP_CHANNELS, 8, 8)
     terms = heatmap_terms(prediction, targets)
     outputs = {"heatmaps": prediction, "beliefs": [prediction]}  # one belief stage + the final maps
-    loss, _ = scene_pose_loss(outputs, targets, LossWeights(detection=2.0, pose=3.0, segmentation=5.0))
-    expected = 2 * (2.0 * terms["detection"] + 3.0 * terms["pose"] + 5.0 * terms["segmentation"])
+    loss, _ = scene_pose_loss(outputs, targets, LossWeights(detection=2.0, pose=3.0, segmentation=5.0,
+                                                            handedness=7.0))
+    expected = 2 * (2.0 * terms["detection"] + 3.0 * terms["pose"] + 5.0 * terms["segmentation"]
+                    + 7.0 * terms["handedness"])
     assert float(loss) == pytest.approx(float(expected), rel=1e-6)
     assert float(terms["pose"]) == pytest.approx(float((prediction[:, 1:18] - targets[:, 1:18]).square().mean()))
 
@@ -93,7 +96,7 @@ def test_training_windows_are_on_the_stride_grid_and_deterministic(flat_dataset)
     data = open_region(flat_dataset, "r0")
     stream = TrainingStream(data.train, CodecConfig(), INPUT_SIZE, CropPolicy(size=(64, 32)), seed=5)
     image, targets = stream[3]
-    assert image.shape == (3, 32, 64) and targets.shape == (19, 8, 16)
+    assert image.shape == (3, 32, 64) and targets.shape == (HEATMAP_CHANNELS, 8, 16)
     assert torch.equal(stream[3][0], image) and not torch.equal(stream[4][0], image)
     # Draw k of epoch e is a permutation: every sample exactly once per epoch.
     assert sorted(stream.sample_index(k) for k in range(len(stream))) == list(range(len(stream)))
