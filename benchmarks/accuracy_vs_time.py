@@ -17,7 +17,9 @@ on the development frames through ``vc-eval`` when ``--dev-video`` is given (the
 self-test's composed frames), and compile time (render + train + export; a stage shared by several points, such as
 the base renders, counts its full time for each). Work lives in ``--work``: renders, runs and bundles are
 keyed by the settings they depend on and reused; a finished point is never recomputed, so the sweep resumes
-after an interruption and runs a knob at a time (the whole sweep takes many hours on 2 cores). Writes
+after an interruption and runs a knob at a time (the whole sweep takes many hours on 2 cores). The settings
+include the network's heat-map layout: points measured with the older 19-map layout (anatomical left/right)
+stay in the report, marked in its "heat maps" column, until their knob runs again. Writes
 ``accuracy_vs_time.json``, ``accuracy_vs_time.md`` and ``accuracy_vs_time_<knob>.png`` to ``--out``.
 """
 
@@ -37,6 +39,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import yaml  # noqa: E402
 
+from vc.deploy.heatmaps import ANATOMICAL_CHANNELS, HEATMAP_CHANNELS  # noqa: E402
+
 
 @dataclass(frozen=True)
 class Point:
@@ -52,6 +56,7 @@ class Point:
     single_region: bool = False
     precision: str = "fp32"
     steps: int = 1800
+    heatmap_channels: int = HEATMAP_CHANNELS  # the trainer's output layout (19: anatomical pairs, before handedness)
 
     def key(self, *fields: str) -> str:
         values = {name: getattr(self, name) for name in fields}
@@ -62,7 +67,7 @@ class Point:
 
     def train_key(self) -> str:
         return self.key("spp", "effects", "samples", "target_person_px", "single_region", "arch", "width",
-                        "sb_units", "steps")
+                        "sb_units", "steps", "heatmap_channels")
 
     def bundle_key(self) -> str:
         return self.train_key() + "-" + self.precision
@@ -146,7 +151,7 @@ class Sweep:
         return {"scene": scene, "renders": renders, "bundle": bundle}, seconds
 
     def measure(self, knob: str, value: str, point: Point) -> dict:
-        path = self.work / "points" / knob / f"{value.replace(' ', '_')}.json"
+        path = self.work / "points" / knob / f"{value.replace(' ', '_')}-{point.bundle_key()}.json"
         if path.is_file():
             return json.loads(path.read_text())
         paths, seconds = self.compile(point)
@@ -214,13 +219,14 @@ def _plot(knob: str, points: list[dict], out: Path) -> None:
 def _report(results: dict[str, list[dict]], out: Path) -> None:
     out.mkdir(parents=True, exist_ok=True)
     (out / "accuracy_vs_time.json").write_text(json.dumps(results, indent=2) + "\n")
-    lines = ["| knob | value | compile min | synthetic AP50 | synthetic PCKh | real AP50 | runtime ms/frame |",
-             "|---|---|---|---|---|---|---|"]
+    lines = ["| knob | value | heat maps | compile min | synthetic AP50 | synthetic PCKh | real AP50 | "
+             "runtime ms/frame |", "|---|---|---|---|---|---|---|---|"]
     for knob, points in results.items():
         for p in points:
             real = f"{p['real_ap50']:.3f}" if "real_ap50" in p else "—"
-            lines.append(f"| {knob} | {p['value']} | {p['compile_minutes']:.1f} | {p['synthetic_ap50']:.3f} | "
-                         f"{p['synthetic_pckh']:.3f} | {real} | {p['runtime_ms']:.1f} |")
+            layout = p["point"].get("heatmap_channels", ANATOMICAL_CHANNELS)
+            lines.append(f"| {knob} | {p['value']} | {layout} | {p['compile_minutes']:.1f} | "
+                         f"{p['synthetic_ap50']:.3f} | {p['synthetic_pckh']:.3f} | {real} | {p['runtime_ms']:.1f} |")
         _plot(knob, points, out)
     (out / "accuracy_vs_time.md").write_text("\n".join(lines) + "\n")
 
