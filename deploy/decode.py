@@ -29,8 +29,8 @@ from vc.deploy.heatmaps import (
     HEATMAP_CHANNELS,
     KEYPOINT_CHANNELS,
     MASK_CHANNEL,
-    PAIRS,
     cells_to_input,
+    swap_pairs,
 )
 
 #: Where each COCO keypoint sits on an upright person, below (+) or above (-) the centre, in person heights
@@ -151,7 +151,8 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
         keypoints = _keypoints(keypoint_maps, centre_cells, heights_cells[index], config)
         if image_ordered:
             row, column = int(round(centre_cells[1])), int(round(centre_cells[0]))
-            keypoints = _anatomical(keypoints, heatmaps[HANDEDNESS_CHANNELS, row, column])
+            # A negative handedness: the pair's image-left member is the person's right one.
+            keypoints = swap_pairs(keypoints, heatmaps[HANDEDNESS_CHANNELS, row, column] < 0)
         within_reach = ((np.abs(columns - centre_cells[0]) <= REACH_FRACTION[0] * heights_cells[index])
                         & (np.abs(rows - centre_cells[1]) <= REACH_FRACTION[1] * heights_cells[index]))
         mask_cells = foreground & (owner == index) & within_reach
@@ -194,15 +195,6 @@ def _keypoints(keypoint_maps: np.ndarray, centre_cells: np.ndarray, height_cells
     peak_rows, peak_columns = y0 + best // len(columns), x0 + best % len(columns)
     keypoints[seen, :2] = cells_to_input(_refine_many(keypoint_maps[seen], peak_rows, peak_columns), config.stride)
     keypoints[seen, 2] = keypoint_maps[seen, peak_rows, peak_columns]
-    return keypoints
-
-
-def _anatomical(keypoints: np.ndarray, handedness: np.ndarray) -> np.ndarray:
-    """Image-ordered keypoints (17, 3) -> anatomical: a pair whose handedness is negative (its image-left member is
-    the person's right one) swaps."""
-    for (left, right), sign in zip(PAIRS, handedness, strict=True):
-        if sign < 0:
-            keypoints[[left, right]] = keypoints[[right, left]]
     return keypoints
 
 

@@ -37,6 +37,16 @@ HEATMAP_CHANNELS = HANDEDNESS_CHANNELS.stop
 ANATOMICAL_CHANNELS = MASK_CHANNEL + 1
 
 
+def swap_pairs(keypoints: np.ndarray, swapped) -> np.ndarray:
+    """A copy of keypoints (17, k) with the two members of each pair (:data:`PAIRS`) exchanged where ``swapped``
+    (one flag per pair) is true: image order <-> anatomical order, in either direction."""
+    result = np.array(keypoints, copy=True)
+    for (left, right), swap in zip(PAIRS, swapped, strict=True):
+        if swap:
+            result[[left, right]] = result[[right, left]]
+    return result
+
+
 def channel_names(channels: int = HEATMAP_CHANNELS) -> tuple[str, ...]:
     """What each map of a network's output holds (written into bundles), for either layout."""
     if channels == ANATOMICAL_CHANNELS:

@@ -28,9 +28,9 @@ from vc.deploy.heatmaps import (
     HEATMAP_CHANNELS,
     KEYPOINT_CHANNELS,
     MASK_CHANNEL,
-    PAIRS,
     cells_to_input,
     input_to_cells,
+    swap_pairs,
 )
 
 #: Gaussians are drawn out to this many sigmas (beyond, exp(-x^2/2) < 1.2e-4).
@@ -84,7 +84,7 @@ def encode(annotations: list[dict], instances: np.ndarray, config: CodecConfig =
         sigma = max(config.keypoint_sigma * size_cells, config.min_sigma_cells)
         keypoints = np.asarray(annotation["keypoints"], np.float64).reshape(-1, 3)
         if annotation.get("left_is_image_left") is not None:
-            keypoints = image_ordered(keypoints, annotation["left_is_image_left"])
+            keypoints = swap_pairs(keypoints, np.logical_not(annotation["left_is_image_left"]))
         for channel, (u, v, visibility) in zip(range(KEYPOINT_CHANNELS.start, KEYPOINT_CHANNELS.stop), keypoints,
                                                strict=True):
             if visibility > 0:
@@ -99,15 +99,6 @@ def encode(annotations: list[dict], instances: np.ndarray, config: CodecConfig =
         sign = np.where(annotation["left_is_image_left"], 1.0, -1.0).astype(np.float32)
         heatmaps[HANDEDNESS_CHANNELS] += coverage[None] * sign[:, None, None]
     return heatmaps
-
-
-def image_ordered(keypoints: np.ndarray, left_is_image_left: list[bool]) -> np.ndarray:
-    """(17, k) keypoints with each pair (:data:`PAIRS`) whose left member is not the image-left one swapped."""
-    ordered = np.array(keypoints, copy=True)
-    for (left, right), in_order in zip(PAIRS, left_is_image_left, strict=True):
-        if not in_order:
-            ordered[[left, right]] = ordered[[right, left]]
-    return ordered
 
 
 def expected_height_map(camera: Camera, stride: int, height_m: float) -> np.ndarray:
