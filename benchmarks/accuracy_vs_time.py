@@ -1,6 +1,7 @@
 """What each compile knob buys: accuracy against compile time and runtime, one knob at a time.
 
-    python benchmarks/accuracy_vs_time.py --scene SCENE --knob spp [--knob samples ...] [--work DIR]
+    python benchmarks/accuracy_vs_time.py --scene SCENE --knob spp [samples ...] [--work DIR]
+        [--knob width --value 16]   # one knob's chosen values; its others keep their earlier results
         [--dev-video V --dev-gt GT.txt --dev-frames 1:400:5] [--out benchmarks/results]
 
 Every point is the standard compile (2 000 samples/region at 16 spp with effects, the ``fast`` network, 1 800
@@ -216,6 +217,19 @@ def _plot(knob: str, points: list[dict], out: Path) -> None:
     plt.close(figure)
 
 
+def merge_points(knob: str, earlier: list[dict], fresh: list[dict]) -> list[dict]:
+    """The knob's points in :data:`KNOBS` order: fresh measurements, else the earlier ones (values not re-run)."""
+    by_value = {point["value"]: point for point in earlier} | {point["value"]: point for point in fresh}
+    return [by_value[value] for value in KNOBS[knob] if value in by_value]
+
+
+def pending_values(results: dict[str, list[dict]]) -> dict[str, list[str]]:
+    """Per knob, the values that have no measurement yet (a partial sweep says what it lacks)."""
+    pending = {knob: [value for value in values if value not in {p["value"] for p in results.get(knob, [])}]
+               for knob, values in KNOBS.items()}
+    return {knob: values for knob, values in pending.items() if values}
+
+
 def _report(results: dict[str, list[dict]], out: Path) -> None:
     out.mkdir(parents=True, exist_ok=True)
     (out / "accuracy_vs_time.json").write_text(json.dumps(results, indent=2) + "\n")
@@ -228,6 +242,10 @@ def _report(results: dict[str, list[dict]], out: Path) -> None:
             lines.append(f"| {knob} | {p['value']} | {layout} | {p['compile_minutes']:.1f} | "
                          f"{p['synthetic_ap50']:.3f} | {p['synthetic_pckh']:.3f} | {real} | {p['runtime_ms']:.1f} |")
         _plot(knob, points, out)
+    pending = pending_values(results)
+    if pending:
+        listed = "; ".join(f"{knob} {', '.join(values)}" for knob, values in pending.items())
+        lines += ["", f"Not measured yet: {listed}."]
     (out / "accuracy_vs_time.md").write_text("\n".join(lines) + "\n")
 
 
@@ -235,6 +253,9 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--scene", type=Path, required=True)
     parser.add_argument("--knob", nargs="+", choices=list(KNOBS), required=True)
+    parser.add_argument("--value", nargs="+", metavar="VALUE",
+                        help="measure only these values of the one --knob (as the table names them); its other values "
+                             "keep their earlier results. For the points that take hours (20k/50k samples, width 64)")
     parser.add_argument("--work", type=Path, default=Path("out/accuracy_vs_time"))
     parser.add_argument("--dev-video", type=Path)
     parser.add_argument("--dev-gt", type=Path)
@@ -243,11 +264,20 @@ def main() -> None:
     args = parser.parse_args()
     if bool(args.dev_video) != bool(args.dev_gt):
         parser.error("--dev-video and --dev-gt go together")
+    if args.value:
+        if len(args.knob) != 1:
+            parser.error("--value needs exactly one --knob")
+        knob, = args.knob
+        unknown = [value for value in args.value if value not in KNOBS[knob]]
+        if unknown:
+            parser.error(f"--value {', '.join(unknown)}: {knob} has the values {', '.join(KNOBS[knob])}")
     sweep = Sweep(args)
     previous = args.out / "accuracy_vs_time.json"
     results = json.loads(previous.read_text()) if previous.is_file() else {}
     for knob in args.knob:
-        results[knob] = [sweep.measure(knob, value, point) for value, point in KNOBS[knob].items()]
+        fresh = [sweep.measure(knob, value, point) for value, point in KNOBS[knob].items()
+                 if not args.value or value in args.value]
+        results[knob] = merge_points(knob, results.get(knob, []), fresh)
         _report(results, args.out)
         print(f"{knob}: " + ", ".join(f"{p['value']} {p['synthetic_ap50']:.3f}" for p in results[knob]), flush=True)
 

@@ -7,6 +7,7 @@ import importlib.util
 import sys
 from pathlib import Path
 
+import pytest
 from conftest import REPO
 
 from vc.scenes.loader import load_scene
@@ -36,3 +37,32 @@ def test_scene_overrides_plan_what_the_point_asks_for(tmp_path):
     assert all(a.input_size[0] < b.input_size[0] for a, b in zip(small, default, strict=True))
     no_effects = load_scene(sweep.scene(KNOBS["effects"]["off"]))
     assert no_effects.effects == ["lens_distortion"]  # the demo lens is distorted: labels must follow it
+
+
+def _measured(value: str, ap50: float) -> dict:
+    return {"value": value, "synthetic_ap50": ap50}
+
+
+def test_a_partial_run_keeps_the_knobs_other_values_in_knob_order():
+    earlier = [_measured("64", 0.90), _measured("16", 0.80)]
+    merged = sweep_module.merge_points("width", earlier, [_measured("16", 0.85), _measured("32", 0.95)])
+    assert [(p["value"], p["synthetic_ap50"]) for p in merged] == [("16", 0.85), ("32", 0.95), ("64", 0.90)]
+
+
+def test_the_report_names_the_values_not_yet_measured():
+    results = {knob: [_measured(value, 0.9) for value in values] for knob, values in KNOBS.items()}
+    assert sweep_module.pending_values(results) == {}
+    results["samples"] = [_measured("1000", 0.9), _measured("5000", 0.9)]
+    del results["arch"]
+    assert sweep_module.pending_values(results) == {"samples": ["20000", "50000"],
+                                                   "arch": ["fast", "fast-dw", "dense9"]}
+
+
+def test_a_value_the_knob_does_not_have_is_refused(monkeypatch, capsys, tmp_path):
+    monkeypatch.setattr(sys, "argv", ["accuracy_vs_time.py", "--scene", str(REPO / "scenes/demo/scene.yaml"),
+                                      "--knob", "width", "--value", "48", "--work", str(tmp_path)])
+    with pytest.raises(SystemExit) as exit_info:
+        sweep_module.main()
+    assert exit_info.value.code == 2
+    assert "--value 48: width has the values 16, 32, 64" in capsys.readouterr().err
+    assert not any(tmp_path.iterdir())  # refused before any work
