@@ -16,12 +16,15 @@ steps, per-region models, fp32) with one knob changed (:data:`KNOBS`):
 Measured per point: held-out synthetic AP50 and PCKh@0.5 (mean over regions), real AP50 and runtime ms/frame
 on the development frames through ``vc-eval`` when ``--dev-video`` is given (the runtime alone otherwise, on the
 self-test's composed frames), and compile time (render + train + export; a stage shared by several points, such as
-the base renders, counts its full time for each). Work lives in ``--work``: renders, runs and bundles are
-keyed by the settings they depend on and reused; a finished point is never recomputed, so the sweep resumes
-after an interruption and runs a knob at a time (the whole sweep takes many hours on 2 cores). The settings
-include the network's heat-map layout: points measured with the older 19-map layout (anatomical left/right)
-stay in the report, marked in its "heat maps" column, until their knob runs again. Writes
-``accuracy_vs_time.json``, ``accuracy_vs_time.md`` and ``accuracy_vs_time_<knob>.png`` to ``--out``.
+the base renders, counts its full time for each; a stage interrupted and resumed counts every attempt's time).
+
+Work lives in ``--work``: renders, runs and bundles are keyed by the settings they depend on and reused; a finished
+point is never recomputed, and an unfinished stage resumes its own work, so the sweep goes on after an interruption
+(a session's end) and runs a knob, or some of its values, at a time (the whole sweep takes days on 2 cores). The
+settings include the network's heat-map layout: points measured with the older 19-map layout (anatomical
+left/right) stay in the report, marked in its "heat maps" column, until their knob runs again. Writes
+``accuracy_vs_time.json``, ``accuracy_vs_time.md`` (with the values not measured yet) and
+``accuracy_vs_time_<knob>.png`` to ``--out``.
 """
 
 from __future__ import annotations
@@ -29,7 +32,9 @@ from __future__ import annotations
 import argparse
 import hashlib
 import json
+import threading
 import time
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
@@ -41,6 +46,9 @@ import numpy as np  # noqa: E402
 import yaml  # noqa: E402
 
 from vc.deploy.heatmaps import ANATOMICAL_CHANNELS, HEATMAP_CHANNELS  # noqa: E402
+from vc.io import atomic_path, write_json  # noqa: E402
+
+HEARTBEAT_SECONDS = 30.0  # how much compile time a killed stage can lose from its record
 
 
 @dataclass(frozen=True)
@@ -94,17 +102,39 @@ class Sweep:
         self.args, self.work = args, args.work
         self.scene_yaml = args.scene.resolve()
 
-    def _timed(self, folder: Path, stage) -> float:
-        """Run ``stage`` once for ``folder`` and remember how long it took (shared stages keep their time)."""
+    def _timed(self, folder: Path, stage: Callable[[], int]) -> float:
+        """Run ``stage`` for ``folder`` until it succeeds and remember how long it took in all (shared stages keep
+        their time). A stage killed part-way (a session's end) resumes its own work when run again; its clock does
+        too, from ``<folder>.partial-seconds.json``, which a heartbeat keeps within :data:`HEARTBEAT_SECONDS`."""
         record = folder.parent / f"{folder.name}.seconds.json"
         if record.is_file():
             return json.loads(record.read_text())["seconds"]
+        partial = folder.parent / f"{folder.name}.partial-seconds.json"
+        earlier = json.loads(partial.read_text())["seconds"] if partial.is_file() else 0.0
         start = time.perf_counter()
-        code = stage()
+
+        def elapsed() -> float:
+            return earlier + time.perf_counter() - start
+
+        stopped = threading.Event()
+
+        def heartbeat() -> None:
+            while not stopped.wait(HEARTBEAT_SECONDS):
+                write_json(partial, {"seconds": elapsed()})
+
+        beating = threading.Thread(target=heartbeat, daemon=True)
+        beating.start()
+        try:
+            code = stage()
+        finally:
+            stopped.set()
+            beating.join()
+            write_json(partial, {"seconds": elapsed()})
         if code != 0:
             raise SystemExit(f"stage for {folder} failed with exit status {code}")
-        seconds = time.perf_counter() - start
-        record.write_text(json.dumps({"seconds": seconds}))
+        seconds = elapsed()
+        write_json(record, {"seconds": seconds})
+        partial.unlink()
         return seconds
 
     def scene(self, point: Point) -> Path:
@@ -125,8 +155,8 @@ class Sweep:
             distorted = not load_scene(self.scene_yaml).camera.distortion.is_identity
             document["effects"] = ["lens_distortion"] if distorted else []
         path = self.work / "scenes" / f"{point.render_key()}.yaml"
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(yaml.safe_dump(document, sort_keys=False))
+        with atomic_path(path) as temporary:
+            temporary.write_text(yaml.safe_dump(document, sort_keys=False))
         return path
 
     def compile(self, point: Point) -> tuple[dict[str, Path], dict[str, float]]:
@@ -163,8 +193,7 @@ class Sweep:
                   "synthetic_ap50": float(np.mean([r["ap50"] for r in held_out])),
                   "synthetic_pckh": float(np.mean([r["pckh"] or 0.0 for r in held_out]))}
         result.update(self.real(paths["bundle"], knob, value) if self.args.dev_video else self.composed(**paths))
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(json.dumps(result, indent=2))
+        write_json(path, result)
         return result
 
     def real(self, bundle: Path, knob: str, value: str) -> dict:
@@ -232,7 +261,7 @@ def pending_values(results: dict[str, list[dict]]) -> dict[str, list[str]]:
 
 def _report(results: dict[str, list[dict]], out: Path) -> None:
     out.mkdir(parents=True, exist_ok=True)
-    (out / "accuracy_vs_time.json").write_text(json.dumps(results, indent=2) + "\n")
+    write_json(out / "accuracy_vs_time.json", results)
     lines = ["| knob | value | heat maps | compile min | synthetic AP50 | synthetic PCKh | real AP50 | "
              "runtime ms/frame |", "|---|---|---|---|---|---|---|---|"]
     for knob, points in results.items():
@@ -246,7 +275,8 @@ def _report(results: dict[str, list[dict]], out: Path) -> None:
     if pending:
         listed = "; ".join(f"{knob} {', '.join(values)}" for knob, values in pending.items())
         lines += ["", f"Not measured yet: {listed}."]
-    (out / "accuracy_vs_time.md").write_text("\n".join(lines) + "\n")
+    with atomic_path(out / "accuracy_vs_time.md") as temporary:
+        temporary.write_text("\n".join(lines) + "\n")
 
 
 def main() -> None:

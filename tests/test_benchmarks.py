@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import argparse
 import importlib.util
+import json
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -66,3 +68,26 @@ def test_a_value_the_knob_does_not_have_is_refused(monkeypatch, capsys, tmp_path
     assert exit_info.value.code == 2
     assert "--value 48: width has the values 16, 32, 64" in capsys.readouterr().err
     assert not any(tmp_path.iterdir())  # refused before any work
+
+
+def test_a_stage_resumed_after_an_interruption_counts_every_attempts_time(tmp_path, monkeypatch):
+    monkeypatch.setattr(sweep_module, "HEARTBEAT_SECONDS", 0.05)
+    sweep = sweep_module.Sweep(argparse.Namespace(work=tmp_path, scene=Path(REPO / "scenes/demo/scene.yaml")))
+    folder = tmp_path / "runs" / "point"
+    folder.parent.mkdir()
+    partial = tmp_path / "runs" / "point.partial-seconds.json"
+
+    def killed_part_way() -> int:
+        time.sleep(0.3)
+        # the heartbeat has kept the clock on disk while the stage ran: a hard kill here loses < one beat
+        assert json.loads(partial.read_text())["seconds"] >= 0.2
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        sweep._timed(folder, killed_part_way)
+    assert not (tmp_path / "runs" / "point.seconds.json").exists()
+    seconds = sweep._timed(folder, lambda: time.sleep(0.2) or 0)
+    assert 0.5 <= seconds < 1.5
+    assert json.loads((tmp_path / "runs" / "point.seconds.json").read_text())["seconds"] == seconds
+    assert not partial.exists()
+    assert sweep._timed(folder, lambda: 1 / 0) == seconds  # a finished stage is never run again
