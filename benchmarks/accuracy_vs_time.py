@@ -101,6 +101,7 @@ class Sweep:
     def __init__(self, args: argparse.Namespace) -> None:
         self.args, self.work = args, args.work
         self.scene_yaml = args.scene.resolve()
+        self.quiet = ["--quiet"] if args.quiet else []  # the stages' own progress bars, passed on or not
 
     def _timed(self, folder: Path, stage: Callable[[], int]) -> float:
         """Run ``stage`` for ``folder`` until it succeeds and remember how long it took in all (shared stages keep
@@ -172,19 +173,21 @@ class Sweep:
             folder.parent.mkdir(parents=True, exist_ok=True)
         seconds = {"render": self._timed(renders, lambda: render_cli.main(
             [str(scene), "-o", str(renders), "--samples", str(point.samples), "--spp", str(point.spp)]))}
-        train_args = [str(renders), "-o", str(run), "--all", "--arch", point.arch, "--steps", str(point.steps),
-                      "--quiet"]
+        train_args = [str(renders), "-o", str(run), "--all", "--arch", point.arch, "--steps", str(point.steps)]
         train_args += ["--width", str(point.width)] if point.width else []
         train_args += ["--sb-units", str(point.sb_units)] if point.sb_units else []
+        train_args += self.quiet
         seconds["train"] = self._timed(run, lambda: train_cli.main(train_args))
         seconds["export"] = self._timed(bundle, lambda: export_cli.main(
-            [str(run), "-o", str(bundle), "--precision", point.precision, "--quiet"]))
+            [str(run), "-o", str(bundle), "--precision", point.precision, *self.quiet]))
         return {"scene": scene, "renders": renders, "bundle": bundle}, seconds
 
     def measure(self, knob: str, value: str, point: Point) -> dict:
         path = self.work / "points" / knob / f"{value.replace(' ', '_')}-{point.bundle_key()}.json"
         if path.is_file():
             return json.loads(path.read_text())
+        print(f"{knob} = {value}: compile {point.bundle_key()} (stages done before are reused), then measure",
+              flush=True)
         paths, seconds = self.compile(point)
         manifest = json.loads((paths["bundle"] / "manifest.json").read_text())
         held_out = [region["held_out_accuracy"][region["precision"]] for region in manifest["regions"]]
@@ -201,7 +204,7 @@ class Sweep:
 
         output = self.work / "evals" / knob / value.replace(" ", "_")
         code = eval_cli.main([str(bundle), "--video", str(self.args.dev_video), "--gt", str(self.args.dev_gt),
-                              "--frames", self.args.dev_frames, "-o", str(output), "--no-hog", "--quiet"])
+                              "--frames", self.args.dev_frames, "-o", str(output), "--no-hog", *self.quiet])
         if code != 0:
             raise SystemExit(f"vc-eval failed with exit status {code}")
         ours = json.loads((output / "metrics.json").read_text())["detectors"]["visual compiler"]
@@ -290,6 +293,7 @@ def main() -> None:
     parser.add_argument("--dev-video", type=Path)
     parser.add_argument("--dev-gt", type=Path)
     parser.add_argument("--dev-frames", default="1:400:5")
+    parser.add_argument("--quiet", action="store_true", help="no progress bars from the stages")
     parser.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
     args = parser.parse_args()
     if bool(args.dev_video) != bool(args.dev_gt):

@@ -7,7 +7,6 @@ import importlib.util
 import json
 import sys
 import time
-from pathlib import Path
 
 import pytest
 from conftest import REPO
@@ -32,7 +31,7 @@ def test_points_share_what_they_do_not_change():
 
 
 def test_scene_overrides_plan_what_the_point_asks_for(tmp_path):
-    sweep = sweep_module.Sweep(argparse.Namespace(work=tmp_path, scene=Path(REPO / "scenes/demo/scene.yaml")))
+    sweep = sweep_module.Sweep(argparse.Namespace(work=tmp_path, scene=REPO / "scenes/demo/scene.yaml", quiet=True))
     single = load_scene(sweep.scene(KNOBS["regions"]["single (SPN-G)"]))
     assert len(plan_regions(single)) == 1
     small, default = (plan_regions(load_scene(sweep.scene(KNOBS["input"][v]))) for v in ("40 px", "80 px"))
@@ -72,7 +71,7 @@ def test_a_value_the_knob_does_not_have_is_refused(monkeypatch, capsys, tmp_path
 
 def test_a_stage_resumed_after_an_interruption_counts_every_attempts_time(tmp_path, monkeypatch):
     monkeypatch.setattr(sweep_module, "HEARTBEAT_SECONDS", 0.05)
-    sweep = sweep_module.Sweep(argparse.Namespace(work=tmp_path, scene=Path(REPO / "scenes/demo/scene.yaml")))
+    sweep = sweep_module.Sweep(argparse.Namespace(work=tmp_path, scene=REPO / "scenes/demo/scene.yaml", quiet=True))
     folder = tmp_path / "runs" / "point"
     folder.parent.mkdir()
     partial = tmp_path / "runs" / "point.partial-seconds.json"
