@@ -13,10 +13,12 @@ steps, per-region models, fp32) with one knob changed (:data:`KNOBS`):
 - ``input`` (the planner's target person height) 40 / 48 / 64 / 80 px, ``regions`` per-region / single (SPN-G),
 - ``precision`` fp32 / fp16 / int8.
 
-Measured per point: held-out synthetic AP50 and PCKh@0.5 (mean over regions), real AP50 and runtime ms/frame
-on the development frames through ``vc-eval`` when ``--dev-video`` is given (the runtime alone otherwise, on the
-self-test's composed frames), and compile time (render + train + export; a stage shared by several points, such as
-the base renders, counts its full time for each; a stage interrupted and resumed counts every attempt's time).
+Measured per point: held-out synthetic AP50 and PCKh@0.5 (mean over regions); real AP50 on the development
+frames through ``vc-eval`` when ``--dev-video`` is given (AP50 of the self-test's composed frames otherwise);
+runtime ms/frame, timed frame by frame in turn with the standard compile's bundle in one process, and its ratio to
+that bundle's time (the ratio is what to compare: the machines are shared); and compile time (render + train +
+export; a stage shared by several points, such as the base renders, counts its full time for each; a stage
+interrupted and resumed counts every attempt's time).
 
 Work lives in ``--work``: renders, runs and bundles are keyed by the settings they depend on and reused; a finished
 point is never recomputed, and an unfinished stage resumes its own work, so the sweep goes on after an interruption
@@ -31,6 +33,7 @@ from __future__ import annotations
 
 import argparse
 import hashlib
+import itertools
 import json
 import threading
 import time
@@ -49,6 +52,7 @@ from vc.deploy.heatmaps import ANATOMICAL_CHANNELS, HEATMAP_CHANNELS  # noqa: E4
 from vc.io import atomic_path, write_json  # noqa: E402
 
 HEARTBEAT_SECONDS = 30.0  # how much compile time a killed stage can lose from its record
+TIMING_FRAMES = 30  # frames each bundle is timed on, in turn with the standard compile's bundle
 
 
 @dataclass(frozen=True)
@@ -102,6 +106,7 @@ class Sweep:
         self.args, self.work = args, args.work
         self.scene_yaml = args.scene.resolve()
         self.quiet = ["--quiet"] if args.quiet else []  # the stages' own progress bars, passed on or not
+        self._timing_frames: list[np.ndarray] | None = None
 
     def _timed(self, folder: Path, stage: Callable[[], int]) -> float:
         """Run ``stage`` for ``folder`` until it succeeds and remember how long it took in all (shared stages keep
@@ -185,7 +190,11 @@ class Sweep:
     def measure(self, knob: str, value: str, point: Point) -> dict:
         path = self.work / "points" / knob / f"{value.replace(' ', '_')}-{point.bundle_key()}.json"
         if path.is_file():
-            return json.loads(path.read_text())
+            result = json.loads(path.read_text())
+            if "runtime_vs_base" not in result:  # measured before the paired timing: add it, the bundle is kept
+                result.update(self.paired_runtime(self.work / "bundles" / point.bundle_key()))
+                write_json(path, result)
+            return result
         print(f"{knob} = {value}: compile {point.bundle_key()} (stages done before are reused), then measure",
               flush=True)
         paths, seconds = self.compile(point)
@@ -196,8 +205,51 @@ class Sweep:
                   "synthetic_ap50": float(np.mean([r["ap50"] for r in held_out])),
                   "synthetic_pckh": float(np.mean([r["pckh"] or 0.0 for r in held_out]))}
         result.update(self.real(paths["bundle"], knob, value) if self.args.dev_video else self.composed(**paths))
+        result.update(self.paired_runtime(paths["bundle"]))
         write_json(path, result)
         return result
+
+    def paired_runtime(self, bundle: Path) -> dict:
+        """Median ms/frame of ``bundle`` and of the standard compile's bundle, timed in turn frame by frame in this
+        process: a shared machine's load (it swung 41–53 ms for one bundle within minutes) hits both alike, so
+        their ratio holds where a lone time does not. Compiles the standard point first if it is missing."""
+        from vc.deploy.runtime import Runtime
+
+        paths, _ = self.compile(BASE)
+        frames = self.timing_frames()
+        runtimes = [Runtime(bundle), Runtime(paths["bundle"])]
+        times: list[list[float]] = [[], []]
+        for runtime in runtimes:
+            runtime(frames[0])  # warm-up: the sessions' first run allocates
+        for frame in frames:
+            for runtime, measured in zip(runtimes, times, strict=True):
+                start = time.perf_counter()
+                runtime(frame)
+                measured.append((time.perf_counter() - start) * 1e3)
+        point_ms, base_ms = (float(np.median(measured)) for measured in times)
+        return {"runtime_ms": point_ms, "base_runtime_ms": base_ms, "runtime_vs_base": point_ms / base_ms}
+
+    def timing_frames(self) -> list[np.ndarray]:
+        """The frames every bundle is timed on: the first :data:`TIMING_FRAMES` development frames, or without
+        them frames composed of the standard point's held-out renders on the scene's background."""
+        if self._timing_frames is None:
+            if self.args.dev_video:
+                from vc.frames import FrameRange, FrameSource
+
+                source = FrameSource(self.args.dev_video, FrameRange.parse(self.args.dev_frames))
+                self._timing_frames = [frame.image for frame in itertools.islice(source, TIMING_FRAMES)]
+            else:
+                from vc.io import read_image
+                from vc.model.data import open_region, read_manifest
+                from vc.scenes.loader import load_scene
+                from vc.selftest import composite_frame
+
+                renders = self.work / "renders" / BASE.render_key()
+                regions = [open_region(renders, name) for name in read_manifest(renders)["regions"]]
+                background = read_image(load_scene(self.scene(BASE)).image_path)
+                self._timing_frames = [composite_frame(background, regions, index).image
+                                       for index in range(TIMING_FRAMES)]
+        return self._timing_frames
 
     def real(self, bundle: Path, knob: str, value: str) -> dict:
         from vc.cli import eval as eval_cli
@@ -208,7 +260,7 @@ class Sweep:
         if code != 0:
             raise SystemExit(f"vc-eval failed with exit status {code}")
         ours = json.loads((output / "metrics.json").read_text())["detectors"]["visual compiler"]
-        return {"real_ap50": ours["ap50"], "runtime_ms": ours["ms_per_frame"]["median"]}
+        return {"real_ap50": ours["ap50"], "eval_runtime_ms": ours["ms_per_frame"]["median"]}
 
     def composed(self, scene: Path, renders: Path, bundle: Path) -> dict:
         from vc.deploy.runtime import Runtime
@@ -219,7 +271,7 @@ class Sweep:
 
         regions = [open_region(renders, name) for name in read_manifest(renders)["regions"]]
         result = self_test(Runtime(bundle), read_image(load_scene(scene).image_path), regions, 20)
-        return {"composed_ap50": result.ap50, "runtime_ms": result.ms_per_frame}
+        return {"composed_ap50": result.ap50}
 
 
 def _plot(knob: str, points: list[dict], out: Path) -> None:
@@ -266,13 +318,15 @@ def _report(results: dict[str, list[dict]], out: Path) -> None:
     out.mkdir(parents=True, exist_ok=True)
     write_json(out / "accuracy_vs_time.json", results)
     lines = ["| knob | value | heat maps | compile min | synthetic AP50 | synthetic PCKh | real AP50 | "
-             "runtime ms/frame |", "|---|---|---|---|---|---|---|---|"]
+             "runtime ms/frame | runtime / standard |", "|---|---|---|---|---|---|---|---|---|"]
     for knob, points in results.items():
         for p in points:
             real = f"{p['real_ap50']:.3f}" if "real_ap50" in p else "—"
+            ratio = f"{p['runtime_vs_base']:.2f}" if "runtime_vs_base" in p else "—"
             layout = p["point"].get("heatmap_channels", ANATOMICAL_CHANNELS)
             lines.append(f"| {knob} | {p['value']} | {layout} | {p['compile_minutes']:.1f} | "
-                         f"{p['synthetic_ap50']:.3f} | {p['synthetic_pckh']:.3f} | {real} | {p['runtime_ms']:.1f} |")
+                         f"{p['synthetic_ap50']:.3f} | {p['synthetic_pckh']:.3f} | {real} | {p['runtime_ms']:.1f} | "
+                         f"{ratio} |")
         _plot(knob, points, out)
     pending = pending_values(results)
     if pending:

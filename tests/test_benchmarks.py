@@ -8,9 +8,11 @@ import json
 import sys
 import time
 
+import numpy as np
 import pytest
 from conftest import REPO
 
+from vc.deploy.bundle import load_bundle
 from vc.scenes.loader import load_scene
 from vc.scenes.regions import plan_regions
 
@@ -90,3 +92,27 @@ def test_a_stage_resumed_after_an_interruption_counts_every_attempts_time(tmp_pa
     assert json.loads((tmp_path / "runs" / "point.seconds.json").read_text())["seconds"] == seconds
     assert not partial.exists()
     assert sweep._timed(folder, lambda: 1 / 0) == seconds  # a finished stage is never run again
+
+
+def test_a_point_measured_before_the_paired_timing_gets_it_from_its_kept_bundle(bundle, tmp_path, monkeypatch):
+    sweep = sweep_module.Sweep(argparse.Namespace(work=tmp_path, scene=REPO / "scenes/demo/scene.yaml", quiet=True,
+                                                  dev_video=None))
+    point = KNOBS["width"]["16"]
+    for key, folder in ((point.bundle_key(), "bundles"), (BASE.bundle_key(), "bundles"),
+                        (BASE.train_key(), "runs"), (BASE.render_key(), "renders")):
+        (tmp_path / folder).mkdir(exist_ok=True)
+        (tmp_path / folder / f"{key}.seconds.json").write_text('{"seconds": 60}')  # stages done: never re-run
+        if folder == "bundles":
+            (tmp_path / folder / key).symlink_to(bundle)
+    width, height = load_bundle(bundle).frame_size
+    frames = [np.random.default_rng(seed).integers(0, 256, (height, width, 3), np.uint8) for seed in range(4)]
+    monkeypatch.setattr(sweep, "timing_frames", lambda: frames)
+    path = tmp_path / "points" / "width" / f"16-{point.bundle_key()}.json"
+    path.parent.mkdir(parents=True)
+    path.write_text(json.dumps({"value": "16", "runtime_ms": 99.0, "synthetic_ap50": 0.5}))
+
+    result = sweep.measure("width", "16", point)
+    assert result["synthetic_ap50"] == 0.5  # the measured point is kept, not recompiled
+    assert 0.5 < result["runtime_vs_base"] < 2.0  # the same bundle against itself, timed in turn
+    assert result["runtime_vs_base"] == result["runtime_ms"] / result["base_runtime_ms"]
+    assert json.loads(path.read_text()) == result
