@@ -13,7 +13,9 @@ steps, per-region models, fp32) with one knob changed (:data:`KNOBS`):
 - ``input`` (the planner's target person height) 40 / 48 / 64 / 80 px, ``regions`` per-region / single (SPN-G),
 - ``precision`` fp32 / fp16 / int8.
 
-Measured per point: held-out synthetic AP50 and PCKh@0.5 (mean over regions); real AP50 on the development
+Measured per point: held-out synthetic AP50 and PCKh@0.5 (mean over regions, on the point's own renders: across
+the knobs that change the renders, such as effects or regions, the held-out sets differ and real AP50 is the
+comparable number); real AP50 on the development
 frames through ``vc-eval`` when ``--dev-video`` is given (AP50 of the self-test's composed frames otherwise);
 runtime ms/frame, timed frame by frame in turn with the standard compile's bundle in one process, and its ratio to
 that bundle's time (the ratio is what to compare: the machines are shared); and compile time (render + train +
