@@ -79,16 +79,18 @@ def test_a_stage_resumed_after_an_interruption_counts_every_attempts_time(tmp_pa
     partial = tmp_path / "runs" / "point.partial-seconds.json"
 
     def killed_part_way() -> int:
-        time.sleep(0.3)
-        # the heartbeat has kept the clock on disk while the stage ran: a hard kill here loses < one beat
-        assert json.loads(partial.read_text())["seconds"] >= 0.2
+        # the heartbeat keeps the clock on disk while the stage runs: a hard kill loses less than one beat
+        deadline = time.perf_counter() + 10
+        while not (partial.is_file() and json.loads(partial.read_text())["seconds"] >= 0.3):
+            assert time.perf_counter() < deadline, "no heartbeat written"
+            time.sleep(0.02)
         raise KeyboardInterrupt
 
     with pytest.raises(KeyboardInterrupt):
         sweep._timed(folder, killed_part_way)
     assert not (tmp_path / "runs" / "point.seconds.json").exists()
     seconds = sweep._timed(folder, lambda: time.sleep(0.2) or 0)
-    assert 0.5 <= seconds < 1.5
+    assert seconds >= 0.5  # both attempts
     assert json.loads((tmp_path / "runs" / "point.seconds.json").read_text())["seconds"] == seconds
     assert not partial.exists()
     assert sweep._timed(folder, lambda: 1 / 0) == seconds  # a finished stage is never run again
