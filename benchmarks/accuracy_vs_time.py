@@ -15,12 +15,11 @@ steps, per-region models, fp32) with one knob changed (:data:`KNOBS`):
 
 Measured per point: held-out synthetic AP50 and PCKh@0.5 (mean over regions, on the point's own renders: across
 the knobs that change the renders, such as effects or regions, the held-out sets differ and real AP50 is the
-comparable number); real AP50 on the development
-frames through ``vc-eval`` when ``--dev-video`` is given (AP50 of the self-test's composed frames otherwise);
-runtime ms/frame, timed frame by frame in turn with the standard compile's bundle in one process, and its ratio to
-that bundle's time (the ratio is what to compare: the machines are shared); and compile time (render + train +
-export; a stage shared by several points, such as the base renders, counts its full time for each; a stage
-interrupted and resumed counts every attempt's time).
+comparable number); real AP50 on the development frames through ``vc-eval`` when ``--dev-video`` is given (AP50 of
+the self-test's composed frames otherwise); runtime ms/frame, timed frame by frame in turn with the standard
+compile's bundle in one process, and its ratio to that bundle's time (the ratio is what to compare: the machines
+are shared); and compile time (render + train + export; a stage shared by several points, such as the base
+renders, counts its full time for each; a stage interrupted and resumed counts every attempt's time).
 
 Work lives in ``--work``: renders, runs and bundles are keyed by the settings they depend on and reused; a finished
 point is never recomputed, and an unfinished stage resumes its own work, so the sweep goes on after an interruption
