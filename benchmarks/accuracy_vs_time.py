@@ -178,7 +178,7 @@ class Sweep:
         for folder in (renders, run, bundle):
             folder.parent.mkdir(parents=True, exist_ok=True)
         seconds = {"render": self._timed(renders, lambda: render_cli.main(
-            [str(scene), "-o", str(renders), "--samples", str(point.samples), "--spp", str(point.spp)]))}
+            [str(scene), "-o", str(renders), "--samples", str(point.samples), "--spp", str(point.spp), *self.quiet]))}
         train_args = [str(renders), "-o", str(run), "--all", "--arch", point.arch, "--steps", str(point.steps)]
         train_args += ["--width", str(point.width)] if point.width else []
         train_args += ["--sb-units", str(point.sb_units)] if point.sb_units else []
@@ -281,16 +281,15 @@ def _plot(knob: str, points: list[dict], out: Path) -> None:
                                                  ("real_ap50", "real AP50"), ("composed_ap50", "composed AP50"))
                if any(name in point for point in points)]
     figure, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
+    # runtime as the ratio to the standard bundle timed in turn with it: lone ms from different hours don't compare
     for axis, x_name, x_label in ((axes[0], "compile_minutes", "compile time (min, 2 cores)"),
-                                  (axes[1], "runtime_ms", "runtime (ms/frame, 2 cores)")):
+                                  (axes[1], "runtime_vs_base", "runtime / standard compile's (timed in turn)")):
         for name, label in metrics:
-            xs = [point[x_name] for point in points if name in point]
-            ys = [point[name] for point in points if name in point]
-            axis.plot(xs, ys, "o-", label=label)
-            for point in points:
-                if name in point:
-                    axis.annotate(point["value"], (point[x_name], point[name]), fontsize=7,
-                                  xytext=(3, 3), textcoords="offset points")
+            shown = [point for point in points if name in point and x_name in point]
+            axis.plot([point[x_name] for point in shown], [point[name] for point in shown], "o-", label=label)
+            for point in shown:
+                axis.annotate(point["value"], (point[x_name], point[name]), fontsize=7,
+                              xytext=(3, 3), textcoords="offset points")
         axis.set(xlabel=x_label, ylim=(0, 1.02))
         axis.set_xlim(left=0)  # times from zero: the ratio between points is what matters
         axis.grid(alpha=0.3)

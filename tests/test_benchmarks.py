@@ -61,6 +61,25 @@ def test_the_report_names_the_values_not_yet_measured():
                                                    "arch": ["fast", "fast-dw", "dense9"]}
 
 
+def _compiled(value: str, minutes: float, ap50: float, runtime_vs_base: float | None) -> dict:
+    point = {"value": value, "point": {"heatmap_channels": 27}, "compile_minutes": minutes, "synthetic_ap50": ap50,
+             "synthetic_pckh": 0.6, "real_ap50": ap50 - 0.1, "runtime_ms": 40.0}
+    return point | ({"runtime_vs_base": runtime_vs_base} if runtime_vs_base else {})
+
+
+def test_the_report_tables_and_plots_each_knob(tmp_path):
+    """A point without the paired runtime (measured before it existed) is tabled with a dash and left off the
+    runtime plot, not a crash."""
+    sweep_module._report({"width": [_compiled("64", 80.0, 0.97, None), _compiled("16", 37.4, 0.96, 0.67)]},
+                         tmp_path)
+    table = (tmp_path / "accuracy_vs_time.md").read_text().splitlines()
+    assert table[2] == "| width | 64 | 27 | 80.0 | 0.970 | 0.600 | 0.870 | 40.0 | — |"
+    assert table[3] == "| width | 16 | 27 | 37.4 | 0.960 | 0.600 | 0.860 | 40.0 | 0.67 |"
+    assert (tmp_path / "accuracy_vs_time_width.png").stat().st_size > 10_000
+    assert table[-1].startswith("Not measured yet: spp 4, 16, 64; effects on, off;")
+    assert "width 32" in table[-1]
+
+
 def test_a_value_the_knob_does_not_have_is_refused(monkeypatch, capsys, tmp_path):
     monkeypatch.setattr(sys, "argv", ["accuracy_vs_time.py", "--scene", str(REPO / "scenes/demo/scene.yaml"),
                                       "--knob", "width", "--value", "48", "--work", str(tmp_path)])

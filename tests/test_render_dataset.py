@@ -11,6 +11,7 @@ from __future__ import annotations
 import contextlib
 import io
 import json
+import shutil
 from pathlib import Path
 
 import cv2
@@ -200,6 +201,21 @@ def test_rerunning_a_finished_dataset_renders_nothing(rendered_dataset, demo_sce
                              show_progress=False)
     assert summary["rendered_now"] == {} and summary["skipped_shards"] == 6
     assert before == {path: path.stat().st_mtime_ns for path in rendered_dataset.rglob("*.png")}
+
+
+def test_the_progress_bar_shows_unless_quiet(tmp_path, rendered_dataset, body_model, monkeypatch, capsys) -> None:
+    """``vc-render --quiet`` (what ``vc-compile --quiet`` passes on) renders without a progress bar."""
+    monkeypatch.setattr(job, "BodyModel", lambda: body_model)  # the CLI would build its own: a minute
+    resumed = tmp_path / "resumed"
+    shutil.copytree(rendered_dataset, resumed)
+    last_shard = sorted(resumed.glob("*/shard-*"))[-1]
+    arguments = [str(DEMO), "-o", str(resumed), "--samples", "12", "--spp", "4", "--shard-size", "5"]
+    for quiet, bar_shown in ((False, True), (True, False)):
+        shutil.rmtree(last_shard)
+        capsys.readouterr()
+        assert render_cli.main(arguments + (["--quiet"] if quiet else [])) == 0
+        assert ("sample/s" in capsys.readouterr().err) == bar_shown
+        assert _tree(resumed) == _tree(rendered_dataset)
 
 
 def test_other_settings_in_the_same_folder_are_refused(rendered_dataset, capsys) -> None:

@@ -115,7 +115,7 @@ class _Compile:
     def render(self) -> dict:
         code = render_cli.main([str(self.args.scene), "-o", str(self.out / "renders"), "--samples",
                                 str(self.budget.samples), "--spp", str(self.budget.spp), "--seed",
-                                str(self.args.seed), "--shard-size", str(SHARD_SIZE)])
+                                str(self.args.seed), "--shard-size", str(SHARD_SIZE), *self._quiet()])
         _succeeded(code)
         return {}
 

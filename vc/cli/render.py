@@ -1,6 +1,7 @@
 """``vc-render``: synthetic people rendered into a scene's regions, with exact labels.
 
     vc-render SCENE -o OUT --samples N [--regions R ...] [--spp S] [--seed K] [--shard-size M] [--max-people P]
+              [--quiet]
     vc-render SCENE --preview -o sheet.png [--samples N] [--regions R ...] [--spp S] [--seed K]
 
 The dataset goes to ``OUT/<region>/shard-NNNNN/`` with ``OUT/manifest.json`` and ``OUT/render_summary.json``
@@ -42,6 +43,7 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--max-people", type=non_negative_int,
                         help="most people per sample (default: from each region's ground area, 2 to 6)")
     parser.add_argument("--preview", action="store_true", help="write a contact sheet instead of a dataset")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
     return parser
 
 
@@ -111,7 +113,7 @@ def main(argv: list[str] | None = None) -> int:
 
     request = RenderRequest(scene=scene, regions=regions, samples=args.samples, settings=settings,
                             effects=effects, output=args.output, shard_size=args.shard_size)
-    summary = render_dataset(request)
+    summary = render_dataset(request, show_progress=not args.quiet)
     for name, counts in summary["dataset"].items():
         now = summary["rendered_now"].get(name)
         made = f"{now['samples']} rendered now in {now['seconds']:.1f} s" if now else "already complete"
