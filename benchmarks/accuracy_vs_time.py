@@ -11,7 +11,9 @@ steps, per-region models, fp32) with one knob changed (:data:`KNOBS`):
   ``samples`` per region 1k / 5k / 20k / 50k,
 - ``arch`` fast / fast-dw / dense9, ``width`` 16 / 32 / 64, ``sb_units`` 1 / 2 / 3,
 - ``input`` (the planner's target person height) 40 / 48 / 64 / 80 px, ``regions`` per-region / single (SPN-G),
-- ``precision`` fp32 / fp16 / int8.
+- ``precision`` fp32 / fp16 / int8,
+- ``seed`` 0 / 1 / 2: the training seed (weights and data order), which trades nothing: the spread between seeds is
+  the noise floor that the other knobs' differences must clear.
 
 Measured per point: held-out synthetic AP50 and PCKh@0.5 (mean over regions, on the point's own renders: across
 the knobs that change the renders, such as effects or regions, the held-out sets differ and real AP50 is the
@@ -71,6 +73,7 @@ class Point:
     precision: str = "fp32"
     steps: int = 1800
     heatmap_channels: int = HEATMAP_CHANNELS  # the trainer's output layout (19: anatomical pairs, before handedness)
+    train_seed: int = 0
 
     def key(self, *fields: str) -> str:
         values = {name: getattr(self, name) for name in fields}
@@ -80,8 +83,9 @@ class Point:
         return self.key("spp", "effects", "samples", "target_person_px", "single_region")
 
     def train_key(self) -> str:
+        seeded = ("train_seed",) if self.train_seed else ()  # seed 0 keeps the keys of runs made before the knob
         return self.key("spp", "effects", "samples", "target_person_px", "single_region", "arch", "width",
-                        "sb_units", "steps", "heatmap_channels")
+                        "sb_units", "steps", "heatmap_channels", *seeded)
 
     def bundle_key(self) -> str:
         return self.train_key() + "-" + self.precision
@@ -99,6 +103,7 @@ KNOBS: dict[str, dict[str, Point]] = {
     "input": {f"{v} px": replace(BASE, target_person_px=v) for v in (40, 48, 64, 80)},
     "regions": {"per-region": BASE, "single (SPN-G)": replace(BASE, single_region=True)},
     "precision": {v: replace(BASE, precision=v) for v in ("fp32", "fp16", "int8")},
+    "seed": {str(v): replace(BASE, train_seed=v) for v in (0, 1, 2)},
 }
 
 
@@ -182,7 +187,7 @@ class Sweep:
         train_args = [str(renders), "-o", str(run), "--all", "--arch", point.arch, "--steps", str(point.steps)]
         train_args += ["--width", str(point.width)] if point.width else []
         train_args += ["--sb-units", str(point.sb_units)] if point.sb_units else []
-        train_args += self.quiet
+        train_args += ["--seed", str(point.train_seed), *self.quiet]
         seconds["train"] = self._timed(run, lambda: train_cli.main(train_args))
         seconds["export"] = self._timed(bundle, lambda: export_cli.main(
             [str(run), "-o", str(bundle), "--precision", point.precision, *self.quiet]))

@@ -30,6 +30,8 @@ def test_points_share_what_they_do_not_change():
     assert len({p.render_key() for p in KNOBS["spp"].values()}) == 3
     # the base point is measured once per knob but compiled once
     assert KNOBS["effects"]["on"] == KNOBS["regions"]["per-region"] == BASE
+    seeds = KNOBS["seed"].values()
+    assert {p.render_key() for p in seeds} == {BASE.render_key()} and len({p.train_key() for p in seeds}) == 3
 
 
 def test_scene_overrides_plan_what_the_point_asks_for(tmp_path):
