@@ -295,9 +295,15 @@ def _plot(knob: str, points: list[dict], out: Path) -> None:
             for point in shown:
                 axis.annotate(point["value"], (point[x_name], point[name]), fontsize=7,
                               xytext=(3, 3), textcoords="offset points")
-        axis.set(xlabel=x_label, ylim=(0, 1.02))
-        axis.set_xlim(left=0)  # times from zero: the ratio between points is what matters
+        # times from zero (the ratio between points is what matters), with room for the rightmost labels
+        axis.set(xlabel=x_label, ylim=(0, 1.02), xlim=(0, 1.15 * max(point.get(x_name, 0.0) for point in points)))
         axis.grid(alpha=0.3)
+    base_ms = [point["base_runtime_ms"] for point in points if "base_runtime_ms" in point]
+    if base_ms:  # the same ratios in ms, at the standard bundle's median time over these points' pairings
+        standard_ms = float(np.median(base_ms))
+        top = axes[1].secondary_xaxis("top", functions=(lambda ratio: ratio * standard_ms,
+                                                        lambda ms: ms / standard_ms))
+        top.set_xlabel(f"ms/frame (2 cores; standard {standard_ms:.1f} ms)", fontsize=8)
     axes[0].set_ylabel("accuracy")
     axes[0].legend(fontsize=8)
     figure.suptitle(f"knob: {knob}")

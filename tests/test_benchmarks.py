@@ -66,7 +66,8 @@ def test_the_report_names_the_values_not_yet_measured():
 def _compiled(value: str, minutes: float, ap50: float, runtime_vs_base: float | None) -> dict:
     point = {"value": value, "point": {"heatmap_channels": 27}, "compile_minutes": minutes, "synthetic_ap50": ap50,
              "synthetic_pckh": 0.6, "real_ap50": ap50 - 0.1, "runtime_ms": 40.0}
-    return point | ({"runtime_vs_base": runtime_vs_base} if runtime_vs_base else {})
+    paired = {"runtime_vs_base": runtime_vs_base, "base_runtime_ms": 40.0 / runtime_vs_base} if runtime_vs_base else {}
+    return point | paired
 
 
 def test_the_report_tables_and_plots_each_knob(tmp_path):
