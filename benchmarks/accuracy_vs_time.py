@@ -218,7 +218,9 @@ class Sweep:
     def paired_runtime(self, bundle: Path) -> dict:
         """Median ms/frame of ``bundle`` and of the standard compile's bundle, timed in turn frame by frame in this
         process: a shared machine's load (it swung 41–53 ms for one bundle within minutes) hits both alike, so
-        their ratio holds where a lone time does not. Compiles the standard point first if it is missing."""
+        their ratio holds where a lone time does not. A load that takes the cores frame by frame (a training run
+        beside it) breaks even the ratio: the same bundle once timed 0.22x itself over 4 frames. Compiles the
+        standard point first if it is missing."""
         from vc.deploy.runtime import Runtime
 
         paths, _ = self.compile(BASE)

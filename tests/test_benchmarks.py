@@ -137,6 +137,8 @@ def test_a_point_measured_before_the_paired_timing_gets_it_from_its_kept_bundle(
 
     result = sweep.measure("width", "16", point)
     assert result["synthetic_ap50"] == 0.5  # the measured point is kept, not recompiled
-    assert 0.5 < result["runtime_vs_base"] < 2.0  # the same bundle against itself, timed in turn
+    # re-timed from the kept bundle (no bounds on the ratio: timings on a loaded machine are for benchmarks, and a
+    # training run beside this test once made the same bundle time 0.22x itself over 4 frames)
+    assert result["runtime_ms"] != 99.0 and result["runtime_ms"] > 0 and result["base_runtime_ms"] > 0
     assert result["runtime_vs_base"] == result["runtime_ms"] / result["base_runtime_ms"]
     assert json.loads(path.read_text()) == result
