@@ -28,9 +28,10 @@ point is never recomputed, and an unfinished stage resumes its own work, so the 
 (a session's end) and runs a knob, or some of its values, at a time (the whole sweep takes days on 2 cores). The
 settings include the network's heat-map layout: points measured with the older 19-map layout (anatomical
 left/right) stay in the report, marked in its "heat maps" column, until their knob runs again. Writes
-``accuracy_vs_time.json``, ``accuracy_vs_time.md`` (with the values not measured yet) and
-``accuracy_vs_time_<knob>.png`` to ``--out``.
-"""
+``accuracy_vs_time.json``, ``accuracy_vs_time.md`` (with the values not measured yet), ``accuracy_vs_time_<knob>.png``
+and ``accuracy_vs_time_overview.png`` to ``--out``. The overview puts every compile measured on one plot (the standard
+one once), draws the Pareto front, the points no other is both faster and more accurate than, and shades the spread
+between training seeds: what to choose for a time budget, and which differences are noise."""
 
 from __future__ import annotations
 
@@ -327,6 +328,108 @@ def pending_values(results: dict[str, list[dict]]) -> dict[str, list[str]]:
     return {knob: values for knob, values in pending.items() if values}
 
 
+def _identity(point: dict) -> str:
+    """The compile a measured point stands for (the standard point is measured under several knobs)."""
+    settings = {**asdict(BASE), "heatmap_channels": ANATOMICAL_CHANNELS, **point["point"]}
+    return Point(**settings).bundle_key()
+
+
+def distinct_compiles(results: dict[str, list[dict]]) -> list[dict]:
+    """Every compile measured once, named ``standard`` or by its knob and value, in the current heat-map layout
+    (the older layout's points are not comparable with the rest)."""
+    standard = BASE.bundle_key()
+    distinct: dict[str, dict] = {}
+    for knob, points in results.items():
+        for point in points:
+            if point["point"].get("heatmap_channels", ANATOMICAL_CHANNELS) != HEATMAP_CHANNELS:
+                continue
+            identity = _identity(point)
+            name = "standard" if identity == standard else f"{knob} {point['value']}"
+            distinct.setdefault(identity, point | {"name": name})
+    return list(distinct.values())
+
+
+def pareto_front(points: list[dict], time_name: str, accuracy_name: str) -> list[dict]:
+    """The points that no other beats, by time ascending: each is more accurate than every faster or as fast one
+    (a tie in both keeps the first)."""
+    ranked = sorted((p for p in points if time_name in p and accuracy_name in p),
+                    key=lambda p: (p[time_name], -p[accuracy_name]))
+    front: list[dict] = []
+    for point in ranked:
+        if not front or point[accuracy_name] > front[-1][accuracy_name]:
+            front.append(point)
+    return front
+
+
+def _accuracy_name(points: list[dict]) -> tuple[str, str]:
+    if any("real_ap50" in point for point in points):
+        return "real_ap50", "real AP50"
+    return "composed_ap50", "composed AP50"
+
+
+def _seed_spread(results: dict[str, list[dict]], accuracy_name: str) -> tuple[float, float] | None:
+    measured = [point[accuracy_name] for point in results.get("seed", []) if accuracy_name in point]
+    return (min(measured), max(measured)) if len(measured) > 1 else None
+
+
+def _coinciding_labels(points: list[dict], x_name: str, y_name: str) -> dict[tuple[float, float], list[str]]:
+    """One label per spot: names of points within 2 % of the plot's spans of an earlier one join its label (the
+    standard point and fp16 share accuracy and time, and their names would print over each other)."""
+    xs, ys = ([p[name] for p in points] for name in (x_name, y_name))
+    tolerance_x = 0.02 * max(max(xs, default=0.0), 1e-9)
+    tolerance_y = 0.02 * max(max(ys, default=0.0) - min(ys, default=0.0), 1e-9)
+    labels: dict[tuple[float, float], list[str]] = {}
+    for point in points:
+        spot = next((spot for spot in labels if abs(spot[0] - point[x_name]) <= tolerance_x
+                     and abs(spot[1] - point[y_name]) <= tolerance_y), (point[x_name], point[y_name]))
+        labels.setdefault(spot, []).append(point["name"])
+    return labels
+
+
+def _plot_overview(results: dict[str, list[dict]], out: Path) -> None:
+    points = distinct_compiles(results)
+    accuracy_name, accuracy_label = _accuracy_name(points)
+    spread = _seed_spread(results, accuracy_name)
+    figure, axes = plt.subplots(1, 2, figsize=(12, 5), sharey=True)
+    for axis, time_name, time_label in ((axes[0], "compile_minutes", "compile time (min, 2 cores)"),
+                                        (axes[1], "runtime_vs_base", "runtime / standard compile's (timed in turn)")):
+        shown = [point for point in points if time_name in point and accuracy_name in point]
+        front = pareto_front(shown, time_name, accuracy_name)
+        if spread:  # differences inside this band are what another training seed alone gives
+            axis.axhspan(*spread, color="0.85", label="training-seed spread")
+        axis.scatter([p[time_name] for p in shown], [p[accuracy_name] for p in shown], color="tab:blue", s=18)
+        # the front as a staircase: the best accuracy reachable within each time
+        axis.step([p[time_name] for p in front], [p[accuracy_name] for p in front], where="post", color="tab:red",
+                  label="best for its time (Pareto front)")
+        for (x, y), names in _coinciding_labels(shown, time_name, accuracy_name).items():
+            axis.annotate(" / ".join(names), (x, y), fontsize=7, xytext=(3, 3), textcoords="offset points")
+        axis.set(xlabel=time_label, xlim=(0, 1.25 * max((p[time_name] for p in shown), default=1.0)))
+        axis.grid(alpha=0.3)
+    axes[0].set_ylabel(accuracy_label)
+    axes[0].legend(fontsize=8, loc="lower right")
+    figure.suptitle(f"every compile measured: {accuracy_label} against compile time and runtime")
+    figure.tight_layout()
+    figure.savefig(out / "accuracy_vs_time_overview.png", dpi=120)
+    plt.close(figure)
+
+
+def _overview_lines(results: dict[str, list[dict]]) -> list[str]:
+    points = distinct_compiles(results)
+    accuracy_name, accuracy_label = _accuracy_name(points)
+    lines = []
+    for time_name, time_label, shown in (("runtime_vs_base", "runtime", "{:.2f}x"),
+                                         ("compile_minutes", "compile time", "{:.1f} min")):
+        front = pareto_front(points, time_name, accuracy_name)
+        if front:
+            listed = ", ".join(f"{p['name']} ({p[accuracy_name]:.3f} at {shown.format(p[time_name])})" for p in front)
+            lines.append(f"Best {accuracy_label} for its {time_label} (Pareto front): {listed}.")
+    spread = _seed_spread(results, accuracy_name)
+    if spread:
+        lines.append(f"Training seeds alone span {accuracy_label} {spread[0]:.3f}–{spread[1]:.3f}: a difference "
+                     f"smaller than {spread[1] - spread[0]:.3f} is within the noise.")
+    return lines
+
+
 def _report(results: dict[str, list[dict]], out: Path) -> None:
     results = {knob: results[knob] for knob in KNOBS if knob in results}  # the order of the module's docstring
     out.mkdir(parents=True, exist_ok=True)
@@ -342,6 +445,8 @@ def _report(results: dict[str, list[dict]], out: Path) -> None:
                          f"{p['synthetic_ap50']:.3f} | {p['synthetic_pckh']:.3f} | {real} | {p['runtime_ms']:.1f} | "
                          f"{ratio} |")
         _plot(knob, points, out)
+    _plot_overview(results, out)
+    lines += ["", *_overview_lines(results)]
     pending = pending_values(results)
     if pending:
         listed = "; ".join(f"{knob} {', '.join(values)}" for knob, values in pending.items())

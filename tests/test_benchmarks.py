@@ -7,6 +7,7 @@ import importlib.util
 import json
 import sys
 import time
+from dataclasses import asdict
 
 import numpy as np
 import pytest
@@ -81,6 +82,41 @@ def test_the_report_tables_and_plots_each_knob(tmp_path):
     assert (tmp_path / "accuracy_vs_time_width.png").stat().st_size > 10_000
     assert table[-1].startswith("Not measured yet: spp 4, 16, 64; effects on, off;")
     assert "width 32" in table[-1]
+
+
+def _as_compiled(knob: str, value: str, ap50: float, runtime_vs_base: float, minutes: float = 54.0) -> dict:
+    """A measured point as the sweep stores it: the settings it was compiled with, in the current layout."""
+    return {"value": value, "point": asdict(KNOBS[knob][value]), "compile_minutes": minutes, "real_ap50": ap50,
+            "synthetic_ap50": 0.97, "synthetic_pckh": 0.65, "runtime_ms": 40.0 * runtime_vs_base,
+            "runtime_vs_base": runtime_vs_base}
+
+
+def test_the_pareto_front_keeps_only_points_nothing_beats():
+    points = [{"name": name, "t": t, "a": a} for name, t, a in
+              (("slow best", 1.0, 0.88), ("fast good", 0.5, 0.87), ("dominated", 0.7, 0.83), ("fastest", 0.4, 0.80),
+               ("tie, later", 0.5, 0.87), ("slower, no better", 1.2, 0.88))]
+    front = sweep_module.pareto_front(points, "t", "a")
+    assert [p["name"] for p in front] == ["fastest", "fast good", "slow best"]
+
+
+def test_the_overview_counts_each_compile_once_and_names_the_front(tmp_path):
+    """The standard compile is measured under several knobs; it is one point. A point of the older heat-map layout
+    is left out: its accuracy does not compare."""
+    results = {
+        "width": [_as_compiled("width", "16", 0.833, 0.67, 37.4), _as_compiled("width", "32", 0.870, 1.01)],
+        "precision": [_as_compiled("precision", "fp32", 0.870, 0.99), _as_compiled("precision", "int8", 0.872, 0.50)],
+        "sb_units": [_as_compiled("sb_units", "2", 0.99, 0.1) | {"point": {"heatmap_channels": 19}}],
+        "seed": [_as_compiled("seed", "0", 0.870, 1.0), _as_compiled("seed", "1", 0.883, 1.01, 55.5)],
+    }
+    names = sorted(p["name"] for p in sweep_module.distinct_compiles(results))
+    assert names == ["precision int8", "seed 1", "standard", "width 16"]
+    sweep_module._report(results, tmp_path)
+    table = (tmp_path / "accuracy_vs_time.md").read_text()
+    assert ("Best real AP50 for its runtime (Pareto front): precision int8 (0.872 at 0.50x), "
+            "seed 1 (0.883 at 1.01x).") in table
+    assert "width 16 (0.833 at 37.4 min), precision int8 (0.872 at 54.0 min), seed 1" in table  # int8 ties: it wins
+    assert "a difference smaller than 0.013 is within the noise" in table
+    assert (tmp_path / "accuracy_vs_time_overview.png").stat().st_size > 10_000
 
 
 def test_a_value_the_knob_does_not_have_is_refused(monkeypatch, capsys, tmp_path):
