@@ -178,3 +178,19 @@ def test_a_point_measured_before_the_paired_timing_gets_it_from_its_kept_bundle(
     assert result["runtime_ms"] != 99.0 and result["runtime_ms"] > 0 and result["base_runtime_ms"] > 0
     assert result["runtime_vs_base"] == result["runtime_ms"] / result["base_runtime_ms"]
     assert json.loads(path.read_text()) == result
+
+
+def test_a_compile_measured_under_one_knob_is_not_measured_again_under_another(tmp_path, monkeypatch):
+    """The standard compile is the reference value of every knob: ``arch fast`` is ``width 32`` already measured."""
+    sweep = sweep_module.Sweep(argparse.Namespace(work=tmp_path, scene=REPO / "scenes/demo/scene.yaml", quiet=True))
+    measured = {"knob": "width", "value": "32", "synthetic_ap50": 0.97, "runtime_vs_base": 1.0}
+    earlier = tmp_path / "points" / "width" / f"32-{BASE.bundle_key()}.json"
+    earlier.parent.mkdir(parents=True)
+    earlier.write_text(json.dumps(measured))
+    monkeypatch.setattr(sweep, "compile", lambda point: pytest.fail("compiled again"))
+
+    result = sweep.measure("arch", "fast", KNOBS["arch"]["fast"])
+    assert result == measured | {"knob": "arch", "value": "fast"}
+    assert json.loads((tmp_path / "points" / "arch" / f"fast-{BASE.bundle_key()}.json").read_text()) == result
+    with pytest.raises(pytest.fail.Exception):  # another compile is still measured
+        sweep.measure("width", "16", KNOBS["width"]["16"])
