@@ -489,10 +489,11 @@ def main() -> None:
             parser.error(f"--value {', '.join(unknown)}: {knob} has the values {', '.join(KNOBS[knob])}")
     sweep = Sweep(args)
     previous = args.out / "accuracy_vs_time.json"
-    results = json.loads(previous.read_text()) if previous.is_file() else {}
     for knob in args.knob:
         fresh = [sweep.measure(knob, value, point) for value, point in KNOBS[knob].items()
                  if not args.value or value in args.value]
+        # read after measuring, which takes hours: another sweep may have reported its own knobs meanwhile
+        results = json.loads(previous.read_text()) if previous.is_file() else {}
         results[knob] = merge_points(knob, results.get(knob, []), fresh)
         _report(results, args.out)
         print(f"{knob}: " + ", ".join(f"{p['value']} {p['synthetic_ap50']:.3f}" for p in results[knob]), flush=True)

@@ -194,3 +194,20 @@ def test_a_compile_measured_under_one_knob_is_not_measured_again_under_another(t
     assert json.loads((tmp_path / "points" / "arch" / f"fast-{BASE.bundle_key()}.json").read_text()) == result
     with pytest.raises(pytest.fail.Exception):  # another compile is still measured
         sweep.measure("width", "16", KNOBS["width"]["16"])
+
+
+def test_a_sweep_keeps_what_another_sweep_reported_while_it_measured(tmp_path, monkeypatch):
+    """Two sweeps (two knobs) may run side by side for hours: the one that ends last must not drop the other's."""
+    out = tmp_path / "results"
+
+    def measure_while_another_reports(self, knob, value, point):
+        sweep_module._report({"seed": [_as_compiled("seed", "1", 0.883, 1.01)]}, out)
+        return _as_compiled(knob, value, 0.847, 0.72)
+
+    monkeypatch.setattr(sweep_module.Sweep, "measure", measure_while_another_reports)
+    monkeypatch.setattr(sys, "argv", ["accuracy_vs_time.py", "--scene", str(REPO / "scenes/demo/scene.yaml"),
+                                      "--knob", "input", "--value", "40 px", "--work", str(tmp_path / "work"),
+                                      "--out", str(out)])
+    sweep_module.main()
+    reported = json.loads((out / "accuracy_vs_time.json").read_text())
+    assert [p["value"] for p in reported["seed"]] == ["1"] and [p["value"] for p in reported["input"]] == ["40 px"]
