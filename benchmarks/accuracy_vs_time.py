@@ -10,7 +10,8 @@ steps, per-region models, fp32) with one knob changed (:data:`KNOBS`):
 - ``spp`` 4 / 16 / 64, ``effects`` on / off (shadows; lens distortion stays: labels must follow the lens),
   ``samples`` per region 1k / 5k / 20k / 50k,
 - ``arch`` fast / fast-dw / dense9, ``width`` 16 / 32 / 64, ``sb_units`` 1 / 2 / 3,
-- ``input`` (the planner's target person height) 40 / 48 / 64 / 80 px, ``regions`` per-region / single (SPN-G),
+- ``input`` (the planner's target person height; the scene's own is the standard point) 40 / 48 / 64 / 80 px,
+  ``regions`` per-region / single (SPN-G),
 - ``precision`` fp32 / fp16 / int8,
 - ``seed`` 0 / 1 / 2: the training seed (weights and data order), which trades nothing: the spread between seeds is
   the noise floor that the other knobs' differences must clear.
@@ -195,7 +196,17 @@ class Sweep:
             [str(run), "-o", str(bundle), "--precision", point.precision, *self.quiet]))
         return {"scene": scene, "renders": renders, "bundle": bundle}, seconds
 
+    def as_compiled(self, point: Point) -> Point:
+        """``point`` with a knob value that is the scene's own setting left unset: the same compile as the standard
+        one, so it shares its keys (PETS plans 48 px people: ``input 48 px`` is the standard point, not a copy)."""
+        from vc.scenes.loader import load_scene
+
+        if point.target_person_px == load_scene(self.scene_yaml).regions.target_person_px:
+            return replace(point, target_person_px=None)
+        return point
+
     def measure(self, knob: str, value: str, point: Point) -> dict:
+        point = self.as_compiled(point)
         points = self.work / "points"
         path = points / knob / f"{value.replace(' ', '_')}-{point.bundle_key()}.json"
         if path.is_file():

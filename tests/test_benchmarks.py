@@ -194,6 +194,10 @@ def test_a_compile_measured_under_one_knob_is_not_measured_again_under_another(t
     assert json.loads((tmp_path / "points" / "arch" / f"fast-{BASE.bundle_key()}.json").read_text()) == result
     with pytest.raises(pytest.fail.Exception):  # another compile is still measured
         sweep.measure("width", "16", KNOBS["width"]["16"])
+    # a value that is the scene's own setting is the standard compile too (the demo scene plans 80 px people)
+    assert sweep.measure("input", "80 px", KNOBS["input"]["80 px"]) == measured | {"knob": "input", "value": "80 px"}
+    with pytest.raises(pytest.fail.Exception):
+        sweep.measure("input", "48 px", KNOBS["input"]["48 px"])
 
 
 def test_a_sweep_keeps_what_another_sweep_reported_while_it_measured(tmp_path, monkeypatch):
