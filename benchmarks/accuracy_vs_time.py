@@ -348,10 +348,14 @@ def pending_values(results: dict[str, list[dict]]) -> dict[str, list[str]]:
     return {knob: values for knob, values in pending.items() if values}
 
 
+def _layout(point: dict) -> int:
+    """The heat-map layout a measured point was trained with (points stored before the field had the older one)."""
+    return point["point"].get("heatmap_channels", ANATOMICAL_CHANNELS)
+
+
 def _identity(point: dict) -> str:
     """The compile a measured point stands for (the standard point is measured under several knobs)."""
-    settings = {**asdict(BASE), "heatmap_channels": ANATOMICAL_CHANNELS, **point["point"]}
-    return Point(**settings).bundle_key()
+    return Point(**{**asdict(BASE), **point["point"], "heatmap_channels": _layout(point)}).bundle_key()
 
 
 def distinct_compiles(results: dict[str, list[dict]]) -> list[dict]:
@@ -361,7 +365,7 @@ def distinct_compiles(results: dict[str, list[dict]]) -> list[dict]:
     distinct: dict[str, dict] = {}
     for knob, points in results.items():
         for point in points:
-            if point["point"].get("heatmap_channels", ANATOMICAL_CHANNELS) != HEATMAP_CHANNELS:
+            if _layout(point) != HEATMAP_CHANNELS:
                 continue
             identity = _identity(point)
             name = "standard" if identity == standard else f"{knob} {point['value']}"
@@ -460,8 +464,7 @@ def _report(results: dict[str, list[dict]], out: Path) -> None:
         for p in points:
             real = f"{p['real_ap50']:.3f}" if "real_ap50" in p else "—"
             ratio = f"{p['runtime_vs_base']:.2f}" if "runtime_vs_base" in p else "—"
-            layout = p["point"].get("heatmap_channels", ANATOMICAL_CHANNELS)
-            lines.append(f"| {knob} | {p['value']} | {layout} | {p['compile_minutes']:.1f} | "
+            lines.append(f"| {knob} | {p['value']} | {_layout(p)} | {p['compile_minutes']:.1f} | "
                          f"{p['synthetic_ap50']:.3f} | {p['synthetic_pckh']:.3f} | {real} | {p['runtime_ms']:.1f} | "
                          f"{ratio} |")
         _plot(knob, points, out)
