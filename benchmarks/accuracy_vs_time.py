@@ -53,6 +53,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import yaml  # noqa: E402
+from matplotlib.transforms import Bbox  # noqa: E402
 
 from vc.deploy.heatmaps import ANATOMICAL_CHANNELS, HEATMAP_CHANNELS  # noqa: E402
 from vc.io import atomic_path, write_json  # noqa: E402
@@ -303,6 +304,39 @@ class Sweep:
         return {"composed_ap50": result.ap50}
 
 
+# where a label may sit around its point, in points: above right first, then above left, below, and further out
+LABEL_OFFSETS = ((3, 3, "left", "bottom"), (-3, 3, "right", "bottom"), (3, -3, "left", "top"),
+                 (-3, -3, "right", "top"), (3, 10, "left", "bottom"), (3, -10, "left", "top"))
+MARKER_RADIUS = 2.5  # points: a label this close to another point's centre would cover its marker
+
+
+def annotate_apart(axis: plt.Axes, labels: list[tuple[str, float, float]]) -> None:
+    """Label each point at the first of :data:`LABEL_OFFSETS` where its text stays inside the axes and covers no
+    label placed before it, no labelled point's marker and not the legend (points of similar time and accuracy
+    would print their names over each other). Call it once the figure's layout is final: overlaps are judged in
+    display space."""
+    renderer = axis.figure.canvas.get_renderer()
+    frame = axis.get_window_extent(renderer)
+    radius = renderer.points_to_pixels(MARKER_RADIUS)
+    centres = axis.transData.transform([(x, y) for _, x, y in labels]) if labels else []
+    taken = [Bbox.from_extents(cx - radius, cy - radius, cx + radius, cy + radius) for cx, cy in centres]
+    legend = axis.get_legend()
+    taken += [legend.get_window_extent(renderer)] if legend else []
+    for text, x, y in labels:
+        for dx, dy, horizontal, vertical in LABEL_OFFSETS:
+            label = axis.annotate(text, (x, y), xytext=(dx, dy), textcoords="offset points", fontsize=7,
+                                  ha=horizontal, va=vertical)
+            extent = label.get_window_extent(renderer)
+            inside = frame.contains(extent.x0, extent.y0) and frame.contains(extent.x1, extent.y1)
+            if inside and not any(extent.overlaps(other) for other in taken):
+                break
+            label.remove()
+        else:  # crowded on every side: the first place, overlapping
+            label = axis.annotate(text, (x, y), xytext=LABEL_OFFSETS[0][:2], textcoords="offset points", fontsize=7)
+            extent = label.get_window_extent(renderer)
+        taken.append(extent)
+
+
 def _plot(knob: str, points: list[dict], out: Path) -> None:
     metrics = [(name, label) for name, label in (("synthetic_ap50", "synthetic AP50"),
                                                  ("synthetic_pckh", "synthetic PCKh@0.5"),
@@ -315,11 +349,8 @@ def _plot(knob: str, points: list[dict], out: Path) -> None:
         for name, label in metrics:
             shown = [point for point in points if name in point and x_name in point]
             axis.plot([point[x_name] for point in shown], [point[name] for point in shown], "o-", label=label)
-            for point in shown:
-                axis.annotate(point["value"], (point[x_name], point[name]), fontsize=7,
-                              xytext=(3, 3), textcoords="offset points")
         # times from zero (the ratio between points is what matters), with room for the rightmost labels
-        axis.set(xlabel=x_label, ylim=(0, 1.02), xlim=(0, 1.15 * max(point.get(x_name, 0.0) for point in points)))
+        axis.set(xlabel=x_label, ylim=(0, 1.08), xlim=(0, 1.15 * max(point.get(x_name, 0.0) for point in points)))
         axis.grid(alpha=0.3)
     base_ms = [point["base_runtime_ms"] for point in points if "base_runtime_ms" in point]
     if base_ms:  # the same ratios in ms, at the standard bundle's median time over these points' pairings
@@ -328,9 +359,12 @@ def _plot(knob: str, points: list[dict], out: Path) -> None:
                                                         lambda ms: ms / standard_ms))
         top.set_xlabel(f"ms/frame (2 cores; standard {standard_ms:.1f} ms)", fontsize=8)
     axes[0].set_ylabel("accuracy")
-    axes[0].legend(fontsize=8)
+    axes[0].legend(fontsize=8, loc="lower left")  # accuracies sit high: the corner stays clear
     figure.suptitle(f"knob: {knob}")
     figure.tight_layout()
+    for axis, x_name in ((axes[0], "compile_minutes"), (axes[1], "runtime_vs_base")):
+        annotate_apart(axis, merge_coinciding([(point["value"], point[x_name], point[name]) for name, _ in metrics
+                                               for point in points if name in point and x_name in point]))
     figure.savefig(out / f"accuracy_vs_time_{knob}.png", dpi=120)
     plt.close(figure)
 
@@ -396,18 +430,18 @@ def _seed_spread(results: dict[str, list[dict]], accuracy_name: str) -> tuple[fl
     return (min(measured), max(measured)) if len(measured) > 1 else None
 
 
-def _coinciding_labels(points: list[dict], x_name: str, y_name: str) -> dict[tuple[float, float], list[str]]:
-    """One label per spot: names of points within 2 % of the plot's spans of an earlier one join its label (the
-    standard point and fp16 share accuracy and time, and their names would print over each other)."""
-    xs, ys = ([p[name] for p in points] for name in (x_name, y_name))
+def merge_coinciding(labels: list[tuple[str, float, float]]) -> list[tuple[str, float, float]]:
+    """One label per spot: the texts of points within 2 % of the plot's spans of an earlier one join its label (the
+    standard point and fp16 share accuracy and time, and three names around one marker don't say which is which)."""
+    xs, ys = [x for _, x, _ in labels], [y for _, _, y in labels]
     tolerance_x = 0.02 * max(max(xs, default=0.0), 1e-9)
     tolerance_y = 0.02 * max(max(ys, default=0.0) - min(ys, default=0.0), 1e-9)
-    labels: dict[tuple[float, float], list[str]] = {}
-    for point in points:
-        spot = next((spot for spot in labels if abs(spot[0] - point[x_name]) <= tolerance_x
-                     and abs(spot[1] - point[y_name]) <= tolerance_y), (point[x_name], point[y_name]))
-        labels.setdefault(spot, []).append(point["name"])
-    return labels
+    spots: dict[tuple[float, float], list[str]] = {}
+    for text, x, y in labels:
+        spot = next((spot for spot in spots if abs(spot[0] - x) <= tolerance_x and abs(spot[1] - y) <= tolerance_y),
+                    (x, y))
+        spots.setdefault(spot, []).append(text)
+    return [(" / ".join(texts), x, y) for (x, y), texts in spots.items()]
 
 
 def _plot_overview(results: dict[str, list[dict]], out: Path) -> None:
@@ -425,14 +459,16 @@ def _plot_overview(results: dict[str, list[dict]], out: Path) -> None:
         # the front as a staircase: the best accuracy reachable within each time
         axis.step([p[time_name] for p in front], [p[accuracy_name] for p in front], where="post", color="tab:red",
                   label="best for its time (Pareto front)")
-        for (x, y), names in _coinciding_labels(shown, time_name, accuracy_name).items():
-            axis.annotate(" / ".join(names), (x, y), fontsize=7, xytext=(3, 3), textcoords="offset points")
         axis.set(xlabel=time_label, xlim=(0, 1.25 * max((p[time_name] for p in shown), default=1.0)))
         axis.grid(alpha=0.3)
     axes[0].set_ylabel(accuracy_label)
     axes[0].legend(fontsize=8, loc="lower right")
     figure.suptitle(f"every compile measured: {accuracy_label} against compile time and runtime")
     figure.tight_layout()
+    for axis, time_name in ((axes[0], "compile_minutes"), (axes[1], "runtime_vs_base")):
+        shown = [point for point in points if time_name in point and accuracy_name in point]
+        annotate_apart(axis, merge_coinciding([(point["name"], point[time_name], point[accuracy_name])
+                                               for point in shown]))
     figure.savefig(out / "accuracy_vs_time_overview.png", dpi=120)
     plt.close(figure)
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import importlib.util
+import itertools
 import json
 import sys
 import time
@@ -97,6 +98,28 @@ def test_the_pareto_front_keeps_only_points_nothing_beats():
                ("tie, later", 0.5, 0.87), ("slower, no better", 1.2, 0.88))]
     front = sweep_module.pareto_front(points, "t", "a")
     assert [p["name"] for p in front] == ["fastest", "fast good", "slow best"]
+
+
+def test_labels_of_crowded_points_do_not_print_over_each_other_or_the_markers():
+    """Three compiles a few minutes and a few thousandths apart, as the sweep measures them: labelled at one offset,
+    their names overlapped."""
+    import matplotlib.pyplot as plt
+    from matplotlib.transforms import Bbox
+
+    figure, axis = plt.subplots(figsize=(6, 5))
+    labels = [("sb_units 2", 46.8, 0.858), ("samples 1000", 51.1, 0.860), ("spp 4", 55.5, 0.859),
+              ("standard / precision fp16", 54.1, 0.870), ("precision int8", 54.1, 0.872)]
+    axis.scatter([x for _, x, _ in labels], [y for _, _, y in labels])
+    axis.set(xlim=(0, 80), ylim=(0.82, 0.89))
+    sweep_module.annotate_apart(axis, labels)
+    renderer = figure.canvas.get_renderer()
+    texts = [text.get_window_extent(renderer) for text in axis.texts]
+    markers = [Bbox.from_extents(x - 2, y - 2, x + 2, y + 2) for x, y in axis.transData.transform(
+        [(x, y) for _, x, y in labels])]
+    plt.close(figure)
+    assert len(texts) == len(labels)
+    assert not [(i, j) for i, j in itertools.combinations(range(len(texts)), 2) if texts[i].overlaps(texts[j])]
+    assert not [(i, j) for i in range(len(texts)) for j in range(len(markers)) if texts[i].overlaps(markers[j])]
 
 
 def test_the_overview_counts_each_compile_once_and_names_the_front(tmp_path):
