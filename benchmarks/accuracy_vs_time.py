@@ -322,18 +322,21 @@ def annotate_apart(axis: plt.Axes, labels: list[tuple[str, float, float]]) -> No
     taken = [Bbox.from_extents(cx - radius, cy - radius, cx + radius, cy + radius) for cx, cy in centres]
     legend = axis.get_legend()
     taken += [legend.get_window_extent(renderer)] if legend else []
+    def place(text: str, x: float, y: float, offset: tuple[int, int, str, str]) -> tuple[plt.Annotation, Bbox]:
+        dx, dy, horizontal, vertical = offset
+        label = axis.annotate(text, (x, y), xytext=(dx, dy), textcoords="offset points", fontsize=7,
+                              ha=horizontal, va=vertical)
+        return label, label.get_window_extent(renderer)
+
     for text, x, y in labels:
-        for dx, dy, horizontal, vertical in LABEL_OFFSETS:
-            label = axis.annotate(text, (x, y), xytext=(dx, dy), textcoords="offset points", fontsize=7,
-                                  ha=horizontal, va=vertical)
-            extent = label.get_window_extent(renderer)
+        for offset in LABEL_OFFSETS:
+            label, extent = place(text, x, y, offset)
             inside = frame.contains(extent.x0, extent.y0) and frame.contains(extent.x1, extent.y1)
             if inside and not any(extent.overlaps(other) for other in taken):
                 break
             label.remove()
         else:  # crowded on every side: the first place, overlapping
-            label = axis.annotate(text, (x, y), xytext=LABEL_OFFSETS[0][:2], textcoords="offset points", fontsize=7)
-            extent = label.get_window_extent(renderer)
+            _, extent = place(text, x, y, LABEL_OFFSETS[0])
         taken.append(extent)
 
 
@@ -344,11 +347,13 @@ def _plot(knob: str, points: list[dict], out: Path) -> None:
                if any(name in point for point in points)]
     figure, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
     # runtime as the ratio to the standard bundle timed in turn with it: lone ms from different hours don't compare
+    labels: dict[plt.Axes, list[tuple[str, float, float]]] = {axis: [] for axis in axes}
     for axis, x_name, x_label in ((axes[0], "compile_minutes", "compile time (min, 2 cores)"),
                                   (axes[1], "runtime_vs_base", "runtime / standard compile's (timed in turn)")):
         for name, label in metrics:
             shown = [point for point in points if name in point and x_name in point]
             axis.plot([point[x_name] for point in shown], [point[name] for point in shown], "o-", label=label)
+            labels[axis] += [(point["value"], point[x_name], point[name]) for point in shown]
         # times from zero (the ratio between points is what matters), with room for the rightmost labels
         axis.set(xlabel=x_label, ylim=(0, 1.08), xlim=(0, 1.15 * max(point.get(x_name, 0.0) for point in points)))
         axis.grid(alpha=0.3)
@@ -362,9 +367,8 @@ def _plot(knob: str, points: list[dict], out: Path) -> None:
     axes[0].legend(fontsize=8, loc="lower left")  # accuracies sit high: the corner stays clear
     figure.suptitle(f"knob: {knob}")
     figure.tight_layout()
-    for axis, x_name in ((axes[0], "compile_minutes"), (axes[1], "runtime_vs_base")):
-        annotate_apart(axis, merge_coinciding([(point["value"], point[x_name], point[name]) for name, _ in metrics
-                                               for point in points if name in point and x_name in point]))
+    for axis, axis_labels in labels.items():
+        annotate_apart(axis, merge_coinciding(axis_labels))
     figure.savefig(out / f"accuracy_vs_time_{knob}.png", dpi=120)
     plt.close(figure)
 
@@ -449,9 +453,11 @@ def _plot_overview(results: dict[str, list[dict]], out: Path) -> None:
     accuracy_name, accuracy_label = _accuracy_name(points)
     spread = _seed_spread(results, accuracy_name)
     figure, axes = plt.subplots(1, 2, figsize=(12, 5), sharey=True)
+    labels: dict[plt.Axes, list[tuple[str, float, float]]] = {}
     for axis, time_name, time_label in ((axes[0], "compile_minutes", "compile time (min, 2 cores)"),
                                         (axes[1], "runtime_vs_base", "runtime / standard compile's (timed in turn)")):
         shown = [point for point in points if time_name in point and accuracy_name in point]
+        labels[axis] = [(point["name"], point[time_name], point[accuracy_name]) for point in shown]
         front = pareto_front(shown, time_name, accuracy_name)
         if spread:  # differences inside this band are what another training seed alone gives
             axis.axhspan(*spread, color="0.85", label="training-seed spread")
@@ -465,10 +471,8 @@ def _plot_overview(results: dict[str, list[dict]], out: Path) -> None:
     axes[0].legend(fontsize=8, loc="lower right")
     figure.suptitle(f"every compile measured: {accuracy_label} against compile time and runtime")
     figure.tight_layout()
-    for axis, time_name in ((axes[0], "compile_minutes"), (axes[1], "runtime_vs_base")):
-        shown = [point for point in points if time_name in point and accuracy_name in point]
-        annotate_apart(axis, merge_coinciding([(point["name"], point[time_name], point[accuracy_name])
-                                               for point in shown]))
+    for axis, axis_labels in labels.items():  # once the layout is final: placing them measures the text
+        annotate_apart(axis, merge_coinciding(axis_labels))
     figure.savefig(out / "accuracy_vs_time_overview.png", dpi=120)
     plt.close(figure)
 

@@ -10,9 +10,11 @@ import sys
 import time
 from dataclasses import asdict
 
+import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 from conftest import REPO
+from matplotlib.transforms import Bbox
 
 from vc.deploy.bundle import load_bundle
 from vc.scenes.loader import load_scene
@@ -103,9 +105,6 @@ def test_the_pareto_front_keeps_only_points_nothing_beats():
 def test_labels_of_crowded_points_do_not_print_over_each_other_or_the_markers():
     """Three compiles a few minutes and a few thousandths apart, as the sweep measures them: labelled at one offset,
     their names overlapped."""
-    import matplotlib.pyplot as plt
-    from matplotlib.transforms import Bbox
-
     figure, axis = plt.subplots(figsize=(6, 5))
     labels = [("sb_units 2", 46.8, 0.858), ("samples 1000", 51.1, 0.860), ("spp 4", 55.5, 0.859),
               ("standard / precision fp16", 54.1, 0.870), ("precision int8", 54.1, 0.872)]
