@@ -8,7 +8,7 @@ Every point is the standard compile (2 000 samples/region at 16 spp with effects
 steps, per-region models, fp32) with one knob changed (:data:`KNOBS`):
 
 - ``spp`` 4 / 16 / 64, ``effects`` on / off (shadows; lens distortion stays: labels must follow the lens),
-  ``samples`` per region 1k / 5k / 20k / 50k,
+  ``samples`` per region 1k / 2k / 5k / 20k / 50k,
 - ``arch`` fast / fast-dw / dense9, ``width`` 16 / 32 / 64, ``sb_units`` 1 / 2 / 3,
 - ``input`` (the planner's target person height; the scene's own is the standard point) 40 / 48 / 64 / 80 px,
   ``regions`` per-region / single (SPN-G),
@@ -99,7 +99,7 @@ BASE = Point()
 KNOBS: dict[str, dict[str, Point]] = {
     "spp": {str(v): replace(BASE, spp=v) for v in (4, 16, 64)},
     "effects": {"on": BASE, "off": replace(BASE, effects=False)},
-    "samples": {str(v): replace(BASE, samples=v) for v in (1000, 5000, 20000, 50000)},
+    "samples": {str(v): replace(BASE, samples=v) for v in (1000, 2000, 5000, 20000, 50000)},
     "arch": {v: replace(BASE, arch=v) for v in ("fast", "fast-dw", "dense9")},
     # the preset's own value is the base point itself (same runs, not a second copy)
     "width": {"16": replace(BASE, width=16), "32": BASE, "64": replace(BASE, width=64)},

@@ -61,7 +61,7 @@ def test_a_partial_run_keeps_the_knobs_other_values_in_knob_order():
 def test_the_report_names_the_values_not_yet_measured():
     results = {knob: [_measured(value, 0.9) for value in values] for knob, values in KNOBS.items()}
     assert sweep_module.pending_values(results) == {}
-    results["samples"] = [_measured("1000", 0.9), _measured("5000", 0.9)]
+    results["samples"] = [_measured("1000", 0.9), _measured("2000", 0.9), _measured("5000", 0.9)]
     del results["arch"]
     assert sweep_module.pending_values(results) == {"samples": ["20000", "50000"],
                                                    "arch": ["fast", "fast-dw", "dense9"]}
