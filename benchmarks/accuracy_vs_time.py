@@ -322,6 +322,7 @@ def annotate_apart(axis: plt.Axes, labels: list[tuple[str, float, float]]) -> No
     taken = [Bbox.from_extents(cx - radius, cy - radius, cx + radius, cy + radius) for cx, cy in centres]
     legend = axis.get_legend()
     taken += [legend.get_window_extent(renderer)] if legend else []
+
     def place(text: str, x: float, y: float, offset: tuple[int, int, str, str]) -> tuple[plt.Annotation, Bbox]:
         dx, dy, horizontal, vertical = offset
         label = axis.annotate(text, (x, y), xytext=(dx, dy), textcoords="offset points", fontsize=7,
