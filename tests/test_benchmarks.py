@@ -132,11 +132,12 @@ def test_the_overview_counts_each_compile_once_and_names_the_front(tmp_path):
     }
     names = sorted(p["name"] for p in sweep_module.distinct_compiles(results))
     assert names == ["precision int8", "seed 1", "standard", "width 16"]
+    assert sorted(p["name"] for p in sweep_module.choices(results)) == ["precision int8", "standard", "width 16"]
     sweep_module._report(results, tmp_path)
     table = (tmp_path / "accuracy_vs_time.md").read_text()
-    assert ("Best real AP50 for its runtime (Pareto front): precision int8 (0.872 at 0.50x), "
-            "seed 1 (0.883 at 1.01x).") in table
-    assert "width 16 (0.833 at 37.4 min), precision int8 (0.872 at 54.0 min), seed 1" in table  # int8 ties: it wins
+    # seed 1 is more accurate than everything, but a lucky seed is noise, not a setting to choose: it is off the front
+    assert "Best real AP50 for its runtime (Pareto front): precision int8 (0.872 at 0.50x)." in table
+    assert "compile time (Pareto front): width 16 (0.833 at 37.4 min), precision int8 (0.872 at 54.0 min)." in table
     assert "a difference smaller than 0.013 is within the noise" in table
     assert (tmp_path / "accuracy_vs_time_overview.png").stat().st_size > 10_000
 
