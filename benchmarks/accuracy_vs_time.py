@@ -2,7 +2,7 @@
 
     python benchmarks/accuracy_vs_time.py --scene SCENE --knob spp [samples ...] [--work DIR]
         [--knob width --value 16]   # one knob's chosen values; its others keep their earlier results
-        [--dev-video V --dev-gt GT.txt --dev-frames 1:400:5] [--out benchmarks/results]
+        [--dev-video V --dev-gt GT.txt --dev-frames 1:400:5] [--out benchmarks/results] [--no-runtime]
 
 Every point is the standard compile (2 000 samples/region at 16 spp with effects, the ``fast`` network, 1 800
 steps, per-region models, fp32) with one knob changed (:data:`KNOBS`):
@@ -21,8 +21,10 @@ the knobs that change the renders, such as effects or regions, the held-out sets
 comparable number); real AP50 on the development frames through ``vc-eval`` when ``--dev-video`` is given (AP50 of
 the self-test's composed frames otherwise); runtime ms/frame, timed frame by frame in turn with the standard
 compile's bundle in one process, and its ratio to that bundle's time (the ratio is what to compare: the machines
-are shared); and compile time (render + train + export; a stage shared by several points, such as the base
-renders, counts its full time for each; a stage interrupted and resumed counts every attempt's time).
+are shared; ``--no-runtime`` leaves it out where the standard compile is not at hand, for a point that fits a
+session only without compiling that too); and compile time (render + train + export; a stage shared by several points,
+such as the base renders, counts its full time for each; a stage interrupted and resumed counts every attempt's
+time).
 
 Work lives in ``--work``: renders, runs and bundles are keyed by the settings they depend on and reused; a finished
 point is never recomputed (nor measured twice: the standard compile is every knob's reference value), and an unfinished
@@ -116,6 +118,7 @@ class Sweep:
         self.args, self.work = args, args.work
         self.scene_yaml = args.scene.resolve()
         self.quiet = ["--quiet"] if args.quiet else []  # the stages' own progress bars, passed on or not
+        self.paired = not args.no_runtime
         self._timing_frames: list[np.ndarray] | None = None
 
     def _timed(self, folder: Path, stage: Callable[[], int]) -> float:
@@ -212,7 +215,7 @@ class Sweep:
         path = points / knob / f"{value.replace(' ', '_')}-{point.bundle_key()}.json"
         if path.is_file():
             result = json.loads(path.read_text())
-            if "runtime_vs_base" not in result:  # measured before the paired timing: add it, the bundle is kept
+            if self.paired and "runtime_vs_base" not in result:  # measured without the paired timing: add it now
                 result.update(self.paired_runtime(self.work / "bundles" / point.bundle_key()))
                 write_json(path, result)
             return result
@@ -233,7 +236,8 @@ class Sweep:
                   "synthetic_ap50": float(np.mean([r["ap50"] for r in held_out])),
                   "synthetic_pckh": float(np.mean([r["pckh"] or 0.0 for r in held_out]))}
         result.update(self.real(paths["bundle"], knob, value) if self.args.dev_video else self.composed(**paths))
-        result.update(self.paired_runtime(paths["bundle"]))
+        if self.paired:
+            result.update(self.paired_runtime(paths["bundle"]))
         write_json(path, result)
         return result
 
@@ -355,8 +359,10 @@ def _plot(knob: str, points: list[dict], out: Path) -> None:
             shown = [point for point in points if name in point and x_name in point]
             axis.plot([point[x_name] for point in shown], [point[name] for point in shown], "o-", label=label)
             labels[axis] += [(point["value"], point[x_name], point[name]) for point in shown]
-        # times from zero (the ratio between points is what matters), with room for the rightmost labels
-        axis.set(xlabel=x_label, ylim=(0, 1.08), xlim=(0, 1.15 * max(point.get(x_name, 0.0) for point in points)))
+        # times from zero (the ratio between points is what matters), with room for the rightmost labels (a knob
+        # measured only with --no-runtime has no runtime to show)
+        right = 1.15 * max(point.get(x_name, 0.0) for point in points) or 1.0
+        axis.set(xlabel=x_label, ylim=(0, 1.08), xlim=(0, right))
         axis.grid(alpha=0.3)
     base_ms = [point["base_runtime_ms"] for point in points if "base_runtime_ms" in point]
     if base_ms:  # the same ratios in ms, at the standard bundle's median time over these points' pairings
@@ -511,10 +517,10 @@ def _report(results: dict[str, list[dict]], out: Path) -> None:
     for knob, points in results.items():
         for p in points:
             real = f"{p['real_ap50']:.3f}" if "real_ap50" in p else "—"
+            ms = f"{p['runtime_ms']:.1f}" if "runtime_ms" in p else "—"
             ratio = f"{p['runtime_vs_base']:.2f}" if "runtime_vs_base" in p else "—"
             lines.append(f"| {knob} | {p['value']} | {_layout(p)} | {p['compile_minutes']:.1f} | "
-                         f"{p['synthetic_ap50']:.3f} | {p['synthetic_pckh']:.3f} | {real} | {p['runtime_ms']:.1f} | "
-                         f"{ratio} |")
+                         f"{p['synthetic_ap50']:.3f} | {p['synthetic_pckh']:.3f} | {real} | {ms} | {ratio} |")
         _plot(knob, points, out)
     _plot_overview(results, out)
     lines += ["", *_overview_lines(results)]
@@ -538,6 +544,10 @@ def main() -> None:
     parser.add_argument("--dev-gt", type=Path)
     parser.add_argument("--dev-frames", default="1:400:5")
     parser.add_argument("--quiet", action="store_true", help="no progress bars from the stages")
+    parser.add_argument("--no-runtime", action="store_true",
+                        help="leave out the paired runtime timing, which needs the standard compile's bundle (about "
+                             "55 min on 2 cores where the work dir lacks it); the point keeps vc-eval's own ms/frame, "
+                             "and a later run without this flag adds the timing while the work dir keeps its bundle")
     parser.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
     args = parser.parse_args()
     if bool(args.dev_video) != bool(args.dev_gt):

@@ -39,7 +39,8 @@ def test_points_share_what_they_do_not_change():
 
 
 def test_scene_overrides_plan_what_the_point_asks_for(tmp_path):
-    sweep = sweep_module.Sweep(argparse.Namespace(work=tmp_path, scene=REPO / "scenes/demo/scene.yaml", quiet=True))
+    sweep = sweep_module.Sweep(argparse.Namespace(work=tmp_path, scene=REPO / "scenes/demo/scene.yaml", quiet=True,
+                                                  no_runtime=False))
     single = load_scene(sweep.scene(KNOBS["regions"]["single (SPN-G)"]))
     assert len(plan_regions(single)) == 1
     small, default = (plan_regions(load_scene(sweep.scene(KNOBS["input"][v]))) for v in ("40 px", "80 px"))
@@ -75,13 +76,15 @@ def _compiled(value: str, minutes: float, ap50: float, runtime_vs_base: float | 
 
 
 def test_the_report_tables_and_plots_each_knob(tmp_path):
-    """A point without the paired runtime (measured before it existed) is tabled with a dash and left off the
-    runtime plot, not a crash."""
-    sweep_module._report({"width": [_compiled("64", 80.0, 0.97, None), _compiled("16", 37.4, 0.96, 0.67)]},
-                         tmp_path)
+    """A point without the paired runtime (measured before it existed, or with ``--no-runtime``) is tabled with a
+    dash and left off the runtime plot, not a crash."""
+    untimed = {name: value for name, value in _compiled("1000", 30.0, 0.95, None).items() if name != "runtime_ms"}
+    sweep_module._report({"width": [_compiled("64", 80.0, 0.97, None), _compiled("16", 37.4, 0.96, 0.67)],
+                          "samples": [untimed]}, tmp_path)
     table = (tmp_path / "accuracy_vs_time.md").read_text().splitlines()
-    assert table[2] == "| width | 64 | 27 | 80.0 | 0.970 | 0.600 | 0.870 | 40.0 | — |"
-    assert table[3] == "| width | 16 | 27 | 37.4 | 0.960 | 0.600 | 0.860 | 40.0 | 0.67 |"
+    assert table[2] == "| samples | 1000 | 27 | 30.0 | 0.950 | 0.600 | 0.850 | — | — |"
+    assert table[3] == "| width | 64 | 27 | 80.0 | 0.970 | 0.600 | 0.870 | 40.0 | — |"
+    assert table[4] == "| width | 16 | 27 | 37.4 | 0.960 | 0.600 | 0.860 | 40.0 | 0.67 |"
     assert (tmp_path / "accuracy_vs_time_width.png").stat().st_size > 10_000
     assert table[-1].startswith("Not measured yet: spp 4, 16, 64; effects on, off;")
     assert "width 32" in table[-1]
@@ -155,7 +158,8 @@ def test_a_value_the_knob_does_not_have_is_refused(monkeypatch, capsys, tmp_path
 
 def test_a_stage_resumed_after_an_interruption_counts_every_attempts_time(tmp_path, monkeypatch):
     monkeypatch.setattr(sweep_module, "HEARTBEAT_SECONDS", 0.05)
-    sweep = sweep_module.Sweep(argparse.Namespace(work=tmp_path, scene=REPO / "scenes/demo/scene.yaml", quiet=True))
+    sweep = sweep_module.Sweep(argparse.Namespace(work=tmp_path, scene=REPO / "scenes/demo/scene.yaml", quiet=True,
+                                                  no_runtime=False))
     folder = tmp_path / "runs" / "point"
     folder.parent.mkdir()
     partial = tmp_path / "runs" / "point.partial-seconds.json"
@@ -180,7 +184,7 @@ def test_a_stage_resumed_after_an_interruption_counts_every_attempts_time(tmp_pa
 
 def test_a_point_measured_before_the_paired_timing_gets_it_from_its_kept_bundle(bundle, tmp_path, monkeypatch):
     sweep = sweep_module.Sweep(argparse.Namespace(work=tmp_path, scene=REPO / "scenes/demo/scene.yaml", quiet=True,
-                                                  dev_video=None))
+                                                  dev_video=None, no_runtime=False))
     point = KNOBS["width"]["16"]
     for key, folder in ((point.bundle_key(), "bundles"), (BASE.bundle_key(), "bundles"),
                         (BASE.train_key(), "runs"), (BASE.render_key(), "renders")):
@@ -204,9 +208,26 @@ def test_a_point_measured_before_the_paired_timing_gets_it_from_its_kept_bundle(
     assert json.loads(path.read_text()) == result
 
 
+def test_without_the_runtime_timing_the_standard_compile_is_neither_timed_nor_compiled(tmp_path, monkeypatch):
+    """``--no-runtime`` is for a point that fits a session only without the standard compile beside it."""
+    sweep = sweep_module.Sweep(argparse.Namespace(work=tmp_path, scene=REPO / "scenes/demo/scene.yaml", quiet=True,
+                                                  no_runtime=True))
+    monkeypatch.setattr(sweep, "compile", lambda point: pytest.fail("compiled"))
+    point = KNOBS["samples"]["20000"]
+    measured = {"knob": "samples", "value": "20000", "synthetic_ap50": 0.97, "eval_runtime_ms": 21.0}
+    path = tmp_path / "points" / "samples" / f"20000-{point.bundle_key()}.json"
+    path.parent.mkdir(parents=True)
+    path.write_text(json.dumps(measured))
+    assert sweep.measure("samples", "20000", point) == measured
+    sweep.paired = True  # a later run with the timing adds it (here: compiles the standard point for it)
+    with pytest.raises(pytest.fail.Exception, match="compiled"):
+        sweep.measure("samples", "20000", point)
+
+
 def test_a_compile_measured_under_one_knob_is_not_measured_again_under_another(tmp_path, monkeypatch):
     """The standard compile is the reference value of every knob: ``arch fast`` is ``width 32`` already measured."""
-    sweep = sweep_module.Sweep(argparse.Namespace(work=tmp_path, scene=REPO / "scenes/demo/scene.yaml", quiet=True))
+    sweep = sweep_module.Sweep(argparse.Namespace(work=tmp_path, scene=REPO / "scenes/demo/scene.yaml", quiet=True,
+                                                  no_runtime=False))
     measured = {"knob": "width", "value": "32", "synthetic_ap50": 0.97, "runtime_vs_base": 1.0}
     earlier = tmp_path / "points" / "width" / f"32-{BASE.bundle_key()}.json"
     earlier.parent.mkdir(parents=True)
