@@ -55,7 +55,7 @@ def training_images_per_second(config: NetworkConfig, crop: tuple[int, int], bat
     width, height = crop
     s = config.stem_stride
     images = torch.rand(batch, 3, height, width)
-    targets = torch.rand(batch, 19, height // s, width // s)
+    targets = torch.rand(batch, config.heatmap_channels, height // s, width // s)
 
     def step() -> None:
         loss, _ = scene_pose_loss(net(images), targets)

@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import importlib.util
+import sys
 from dataclasses import replace
 from pathlib import Path
+from types import ModuleType
 
 import numpy as np
 import pytest
@@ -19,6 +22,15 @@ TESTS_DATA = Path(__file__).resolve().parent / "data"
 #: Oxford Town Centre intrinsics (Benfold & Reid, CVPR 2011), as published with the dataset.
 TOWN_CENTRE = {"fx": 2696.35888671875, "fy": 2696.35888671875, "cx": 959.5, "cy": 539.5,
                "k1": -0.6015, "k2": 4.7020, "p1": -0.000475, "p2": -0.007823, "size": (1920, 1080)}
+
+
+def load_benchmark(name: str) -> ModuleType:
+    """The script ``benchmarks/<name>.py`` as a module (benchmarks are scripts, not a package)."""
+    spec = importlib.util.spec_from_file_location(name, REPO / "benchmarks" / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module  # dataclasses look their module up while it executes
+    spec.loader.exec_module(module)
+    return module
 
 
 @pytest.fixture(scope="session")

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import itertools
 import json
 import sys
@@ -13,17 +12,14 @@ from dataclasses import asdict
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
-from conftest import REPO
+from conftest import REPO, load_benchmark
 from matplotlib.transforms import Bbox
 
 from vc.deploy.bundle import load_bundle
 from vc.scenes.loader import load_scene
 from vc.scenes.regions import plan_regions
 
-_spec = importlib.util.spec_from_file_location("accuracy_vs_time", REPO / "benchmarks" / "accuracy_vs_time.py")
-sweep_module = importlib.util.module_from_spec(_spec)
-sys.modules["accuracy_vs_time"] = sweep_module  # dataclasses look their module up while it executes
-_spec.loader.exec_module(sweep_module)
+sweep_module = load_benchmark("accuracy_vs_time")
 KNOBS, BASE = sweep_module.KNOBS, sweep_module.BASE
 
 
