@@ -21,8 +21,8 @@ the knobs that change the renders, such as effects or regions, the held-out sets
 comparable number); real AP50 on the development frames through ``vc-eval`` when ``--dev-video`` is given (AP50 of
 the self-test's composed frames otherwise); runtime ms/frame, timed frame by frame in turn with the standard
 compile's bundle in one process, and its ratio to that bundle's time (the ratio is what to compare: the machines
-are shared; ``--no-runtime`` leaves it out where the standard compile is not at hand, for a point that fits a
-session only without compiling that too); and compile time (render + train + export; a stage shared by several points,
+are shared; ``--no-runtime`` leaves the timing out, for a point that fits the time at hand only without compiling
+the standard one beside it); and compile time (render + train + export; a stage shared by several points,
 such as the base renders, counts its full time for each; a stage interrupted and resumed counts every attempt's
 time).
 
@@ -545,9 +545,10 @@ def main() -> None:
     parser.add_argument("--dev-frames", default="1:400:5")
     parser.add_argument("--quiet", action="store_true", help="no progress bars from the stages")
     parser.add_argument("--no-runtime", action="store_true",
-                        help="leave out the paired runtime timing, which needs the standard compile's bundle (about "
-                             "55 min on 2 cores where the work dir lacks it); the point keeps vc-eval's own ms/frame, "
-                             "and a later run without this flag adds the timing while the work dir keeps its bundle")
+                        help="leave out the paired runtime timing, which needs the standard compile's bundle "
+                             "(about 55 min on 2 cores where the work dir lacks it); with --dev-video the point "
+                             "keeps vc-eval's own ms/frame, and a later run without this flag adds the timing "
+                             "while the work dir keeps its bundle")
     parser.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
     args = parser.parse_args()
     if bool(args.dev_video) != bool(args.dev_gt):
