@@ -23,6 +23,12 @@ sweep_module = load_benchmark("accuracy_vs_time")
 KNOBS, BASE = sweep_module.KNOBS, sweep_module.BASE
 
 
+def _sweep(work, **settings):
+    """A sweep of the demo scene as ``main`` makes it, with the paired timing unless ``no_runtime`` says otherwise."""
+    arguments = {"work": work, "scene": REPO / "scenes/demo/scene.yaml", "quiet": True, "no_runtime": False}
+    return sweep_module.Sweep(argparse.Namespace(**arguments | settings))
+
+
 def test_points_share_what_they_do_not_change():
     assert {p.render_key() for p in KNOBS["arch"].values()} == {BASE.render_key()}
     assert {p.train_key() for p in KNOBS["precision"].values()} == {BASE.train_key()}
@@ -35,8 +41,7 @@ def test_points_share_what_they_do_not_change():
 
 
 def test_scene_overrides_plan_what_the_point_asks_for(tmp_path):
-    sweep = sweep_module.Sweep(argparse.Namespace(work=tmp_path, scene=REPO / "scenes/demo/scene.yaml", quiet=True,
-                                                  no_runtime=False))
+    sweep = _sweep(tmp_path)
     single = load_scene(sweep.scene(KNOBS["regions"]["single (SPN-G)"]))
     assert len(plan_regions(single)) == 1
     small, default = (plan_regions(load_scene(sweep.scene(KNOBS["input"][v]))) for v in ("40 px", "80 px"))
@@ -154,8 +159,7 @@ def test_a_value_the_knob_does_not_have_is_refused(monkeypatch, capsys, tmp_path
 
 def test_a_stage_resumed_after_an_interruption_counts_every_attempts_time(tmp_path, monkeypatch):
     monkeypatch.setattr(sweep_module, "HEARTBEAT_SECONDS", 0.05)
-    sweep = sweep_module.Sweep(argparse.Namespace(work=tmp_path, scene=REPO / "scenes/demo/scene.yaml", quiet=True,
-                                                  no_runtime=False))
+    sweep = _sweep(tmp_path)
     folder = tmp_path / "runs" / "point"
     folder.parent.mkdir()
     partial = tmp_path / "runs" / "point.partial-seconds.json"
@@ -179,8 +183,7 @@ def test_a_stage_resumed_after_an_interruption_counts_every_attempts_time(tmp_pa
 
 
 def test_a_point_measured_before_the_paired_timing_gets_it_from_its_kept_bundle(bundle, tmp_path, monkeypatch):
-    sweep = sweep_module.Sweep(argparse.Namespace(work=tmp_path, scene=REPO / "scenes/demo/scene.yaml", quiet=True,
-                                                  dev_video=None, no_runtime=False))
+    sweep = _sweep(tmp_path, dev_video=None)
     point = KNOBS["width"]["16"]
     for key, folder in ((point.bundle_key(), "bundles"), (BASE.bundle_key(), "bundles"),
                         (BASE.train_key(), "runs"), (BASE.render_key(), "renders")):
@@ -206,8 +209,7 @@ def test_a_point_measured_before_the_paired_timing_gets_it_from_its_kept_bundle(
 
 def test_without_the_runtime_timing_the_standard_compile_is_neither_timed_nor_compiled(tmp_path, monkeypatch):
     """``--no-runtime`` is for a point that fits a session only without the standard compile beside it."""
-    sweep = sweep_module.Sweep(argparse.Namespace(work=tmp_path, scene=REPO / "scenes/demo/scene.yaml", quiet=True,
-                                                  no_runtime=True))
+    sweep = _sweep(tmp_path, no_runtime=True)
     monkeypatch.setattr(sweep, "compile", lambda point: pytest.fail("compiled"))
     point = KNOBS["samples"]["20000"]
     measured = {"knob": "samples", "value": "20000", "synthetic_ap50": 0.97, "eval_runtime_ms": 21.0}
@@ -222,8 +224,7 @@ def test_without_the_runtime_timing_the_standard_compile_is_neither_timed_nor_co
 
 def test_a_compile_measured_under_one_knob_is_not_measured_again_under_another(tmp_path, monkeypatch):
     """The standard compile is the reference value of every knob: ``arch fast`` is ``width 32`` already measured."""
-    sweep = sweep_module.Sweep(argparse.Namespace(work=tmp_path, scene=REPO / "scenes/demo/scene.yaml", quiet=True,
-                                                  no_runtime=False))
+    sweep = _sweep(tmp_path)
     measured = {"knob": "width", "value": "32", "synthetic_ap50": 0.97, "runtime_vs_base": 1.0}
     earlier = tmp_path / "points" / "width" / f"32-{BASE.bundle_key()}.json"
     earlier.parent.mkdir(parents=True)
