@@ -14,7 +14,12 @@ steps, per-region models, fp32) with one knob changed (:data:`KNOBS`):
   ``regions`` per-region / single (SPN-G),
 - ``precision`` fp32 / fp16 / int8,
 - ``seed`` 0 / 1 / 2: the training seed (weights and data order), which trades nothing: the spread between seeds is
-  the noise floor that the other knobs' differences must clear.
+  the noise floor that the other knobs' differences must clear;
+- ``photometry`` (:data:`PHOTOMETRY`): the renders' light and camera — off (the default sun of an explicit
+  ``lighting:`` block, no camera effects: every point measured before photometric matching), the light estimated
+  from the background alone, or matched (light and every camera effect the scene calls for: the standard compile),
+  and matched less one camera effect at a time (``benchmarks/effects_ablation.py`` runs this knob and adds each
+  variant's render cost per sample).
 
 Measured per point: held-out synthetic AP50 and PCKh@0.5 (mean over regions, on the point's own renders: across
 the knobs that change the renders, such as effects or regions, the held-out sets differ and real AP50 is the
@@ -80,24 +85,36 @@ class Point:
     steps: int = 1800
     heatmap_channels: int = HEATMAP_CHANNELS  # the trainer's output layout (19: anatomical pairs, before handedness)
     train_seed: int = 0
+    photometry: str = "matched"  # see PHOTOMETRY; points stored before the knob were "off"
 
     def key(self, *fields: str) -> str:
         values = {name: getattr(self, name) for name in fields}
         return hashlib.sha256(json.dumps(values, sort_keys=True).encode()).hexdigest()[:12]
 
+    def _rendered_as(self) -> tuple[str, ...]:
+        # "off" keeps the keys of the renders made before photometric matching (they were rendered so)
+        return ("photometry",) if self.photometry != "off" else ()
+
     def render_key(self) -> str:
-        return self.key("spp", "effects", "samples", "target_person_px", "single_region")
+        return self.key("spp", "effects", "samples", "target_person_px", "single_region", *self._rendered_as())
 
     def train_key(self) -> str:
         seeded = ("train_seed",) if self.train_seed else ()  # seed 0 keeps the keys of runs made before the knob
         return self.key("spp", "effects", "samples", "target_person_px", "single_region", "arch", "width",
-                        "sb_units", "steps", "heatmap_channels", *seeded)
+                        "sb_units", "steps", "heatmap_channels", *seeded, *self._rendered_as())
 
     def bundle_key(self) -> str:
         return self.train_key() + "-" + self.precision
 
 
 BASE = Point()
+#: The photometry knob's values: what each leaves out of the matched renders.
+PHOTOMETRY = {"off": "default sun, no camera effects", "light": "estimated light, no camera effects",
+              "matched": "estimated light and every effect the scene calls for",
+              "no sensor_noise": "matched less sensor noise", "no jpeg": "matched less compression",
+              "no optical_blur": "matched less optical blur"}
+#: Effects that are the renderer's geometry rather than the camera's: every photometry value keeps them.
+GEOMETRIC_EFFECTS = ("lens_distortion", "shadows")
 KNOBS: dict[str, dict[str, Point]] = {
     "spp": {str(v): replace(BASE, spp=v) for v in (4, 16, 64)},
     "effects": {"on": BASE, "off": replace(BASE, effects=False)},
@@ -110,6 +127,7 @@ KNOBS: dict[str, dict[str, Point]] = {
     "regions": {"per-region": BASE, "single (SPN-G)": replace(BASE, single_region=True)},
     "precision": {v: replace(BASE, precision=v) for v in ("fp32", "fp16", "int8")},
     "seed": {str(v): replace(BASE, train_seed=v) for v in (0, 1, 2)},
+    "photometry": {v: BASE if v == "matched" else replace(BASE, photometry=v) for v in PHOTOMETRY},
 }
 
 
@@ -173,10 +191,31 @@ class Sweep:
 
             distorted = not load_scene(self.scene_yaml).camera.distortion.is_identity
             document["effects"] = ["lens_distortion"] if distorted else []
+        elif point.photometry != "matched":
+            document.update(self.photometry_overrides(point.photometry))
         path = self.work / "scenes" / f"{point.render_key()}.yaml"
         with atomic_path(path) as temporary:
             temporary.write_text(yaml.safe_dump(document, sort_keys=False))
         return path
+
+    def photometry_overrides(self, photometry: str) -> dict:
+        """Scene fields that turn the matched renders into ``photometry``'s (see :data:`PHOTOMETRY`)."""
+        from vc.render.plan import plan_render
+        from vc.scenes.loader import load_scene
+        from vc.scenes.regions import plan_regions
+        from vc.scenes.schema import Lighting
+
+        scene = load_scene(self.scene_yaml)
+        geometric = [name for name in GEOMETRIC_EFFECTS
+                     if name != "lens_distortion" or not scene.camera.distortion.is_identity]
+        if photometry == "off":
+            return {"lighting": Lighting().model_dump(), "effects": geometric}
+        if photometry == "light":
+            return {"effects": geometric}
+        left_out = photometry.removeprefix("no ")
+        plan = plan_render(scene, plan_regions(scene), time_costs=False)
+        return {"effects": [decision.name for decision in plan.effects
+                            if decision.on and decision.name != left_out]}
 
     def compile(self, point: Point) -> tuple[dict[str, Path], dict[str, float]]:
         from vc.cli import export as export_cli
@@ -398,9 +437,15 @@ def _layout(point: dict) -> int:
     return point["point"].get("heatmap_channels", ANATOMICAL_CHANNELS)
 
 
+def _photometry(point: dict) -> str:
+    """The renders' photometry of a measured point (points stored before the knob had none: "off")."""
+    return point["point"].get("photometry", "off")
+
+
 def _identity(point: dict) -> str:
     """The compile a measured point stands for (the standard point is measured under several knobs)."""
-    return Point(**{**asdict(BASE), **point["point"], "heatmap_channels": _layout(point)}).bundle_key()
+    return Point(**{**asdict(BASE), **point["point"], "heatmap_channels": _layout(point),
+                    "photometry": _photometry(point)}).bundle_key()
 
 
 def distinct_compiles(results: dict[str, list[dict]]) -> list[dict]:
@@ -512,14 +557,14 @@ def _report(results: dict[str, list[dict]], out: Path) -> None:
     results = {knob: results[knob] for knob in KNOBS if knob in results}  # the order of the module's docstring
     out.mkdir(parents=True, exist_ok=True)
     write_json(out / "accuracy_vs_time.json", results)
-    lines = ["| knob | value | heat maps | compile min | synthetic AP50 | synthetic PCKh | real AP50 | "
-             "runtime ms/frame | runtime / standard |", "|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| knob | value | heat maps | photometry | compile min | synthetic AP50 | synthetic PCKh | real AP50 | "
+             "runtime ms/frame | runtime / standard |", "|---|---|---|---|---|---|---|---|---|---|"]
     for knob, points in results.items():
         for p in points:
             real = f"{p['real_ap50']:.3f}" if "real_ap50" in p else "—"
             ms = f"{p['runtime_ms']:.1f}" if "runtime_ms" in p else "—"
             ratio = f"{p['runtime_vs_base']:.2f}" if "runtime_vs_base" in p else "—"
-            lines.append(f"| {knob} | {p['value']} | {_layout(p)} | {p['compile_minutes']:.1f} | "
+            lines.append(f"| {knob} | {p['value']} | {_layout(p)} | {_photometry(p)} | {p['compile_minutes']:.1f} | "
                          f"{p['synthetic_ap50']:.3f} | {p['synthetic_pckh']:.3f} | {real} | {ms} | {ratio} |")
         _plot(knob, points, out)
     _plot_overview(results, out)
@@ -532,10 +577,14 @@ def _report(results: dict[str, list[dict]], out: Path) -> None:
         temporary.write_text("\n".join(lines) + "\n")
 
 
-def main() -> None:
+def build_parser(knob: str | None = None) -> argparse.ArgumentParser:
+    """The sweep's arguments; with ``knob`` the sweep runs that one knob and ``--knob`` is not asked for."""
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--scene", type=Path, required=True)
-    parser.add_argument("--knob", nargs="+", choices=list(KNOBS), required=True)
+    if knob is None:
+        parser.add_argument("--knob", nargs="+", choices=list(KNOBS), required=True)
+    else:
+        parser.set_defaults(knob=[knob])
     parser.add_argument("--value", nargs="+", metavar="VALUE",
                         help="measure only these values of the one --knob (as the table names them); its other values "
                              "keep their earlier results. For the points that take hours (20k/50k samples, width 64)")
@@ -550,7 +599,12 @@ def main() -> None:
                              "keeps vc-eval's own ms/frame, and a later run without this flag adds the timing "
                              "while the work dir keeps its bundle")
     parser.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
-    args = parser.parse_args()
+    return parser
+
+
+def run(parser: argparse.ArgumentParser, argv: list[str] | None = None) -> argparse.Namespace:
+    """Parse, check, measure every requested point and rewrite the report; returns the arguments."""
+    args = parser.parse_args(argv)
     if bool(args.dev_video) != bool(args.dev_gt):
         parser.error("--dev-video and --dev-gt go together")
     if args.value:
@@ -570,6 +624,11 @@ def main() -> None:
         results[knob] = merge_points(knob, results.get(knob, []), fresh)
         _report(results, args.out)
         print(f"{knob}: " + ", ".join(f"{p['value']} {p['synthetic_ap50']:.3f}" for p in results[knob]), flush=True)
+    return args
+
+
+def main() -> None:
+    run(build_parser())
 
 
 if __name__ == "__main__":

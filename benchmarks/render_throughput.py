@@ -28,8 +28,8 @@ import numpy as np  # noqa: E402
 from vc.io import write_json  # noqa: E402
 from vc.render import dataset  # noqa: E402
 from vc.render.bodies import BodyModel  # noqa: E402
-from vc.render.effects import effect_on, plan_effects  # noqa: E402
-from vc.render.synthesis import RegionSynthesizer, SynthesisSettings, scene_lighting  # noqa: E402
+from vc.render.plan import plan_render  # noqa: E402
+from vc.render.synthesis import RegionSynthesizer, SynthesisSettings  # noqa: E402
 from vc.scenes.loader import BUNDLED_SCENES, load_scene  # noqa: E402
 from vc.scenes.regions import plan_regions  # noqa: E402
 
@@ -103,7 +103,7 @@ def main() -> None:
     args = parser.parse_args()
 
     scene = load_scene(args.scene)
-    effects = plan_effects(scene, scene_lighting(scene))
+    plan = plan_render(scene, plan_regions(scene))
     start = time.perf_counter()
     bodies = BodyModel()
     print(f"body model built in {time.perf_counter() - start:.1f} s")
@@ -111,8 +111,8 @@ def main() -> None:
     scratch = tempfile.mkdtemp(prefix="vc-render-bench-")
     for region in plan_regions(scene):
         for spp in args.spp:
-            settings = SynthesisSettings(spp=spp, shadows=effect_on(effects, "shadows"))
-            synthesizer = RegionSynthesizer(scene, region, bodies, settings)
+            settings = SynthesisSettings(spp=spp)
+            synthesizer = RegionSynthesizer(scene, region, bodies, settings, plan)
             row = {"scene": scene.name, "region": region.name, "input_size": list(region.input_size), "spp": spp,
                    **measure(synthesizer, args.samples, args.warmup, Path(scratch))}
             print(json.dumps(row))
@@ -120,7 +120,8 @@ def main() -> None:
 
     shutil.rmtree(scratch)
     args.out.mkdir(parents=True, exist_ok=True)
-    write_json(args.out / "render_throughput.json", {"effects": [e.to_dict() for e in effects], "results": results})
+    write_json(args.out / "render_throughput.json", {"effects": [e.to_dict() for e in plan.effects],
+                                                     "lighting": plan.lighting.to_dict(), "results": results})
     lines = ["| region | input | spp | samples/s | ms/sample | people/sample | median person px | "
              "pose | trace | other render | composite | labels | writing |", "|" + "---|" * 13]
     for r in results:

@@ -12,12 +12,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from vc.calibration.camera import Camera
+from vc.calibration.lighting import Illumination
 from vc.calibration.response import Response
 from vc.render.layout_scene import layout_scene_dict
 from vc.render.mitsuba_setup import mitsuba
 from vc.render.sensor import ideal_view, perspective_sensor
 from vc.scenes.layout import Layout
-from vc.scenes.schema import Lighting
 
 if TYPE_CHECKING:
     import mitsuba as mi
@@ -49,14 +49,14 @@ def render_linear(scene: mi.Scene, spp: int, seed: int, spp_per_pass: int = SPP_
     return (total / spp)[..., :3].astype(np.float32)
 
 
-def render_background(camera: Camera, layout: Layout, lighting: Lighting, spp: int = 64, seed: int = 0
+def render_background(camera: Camera, layout: Layout, illumination: Illumination, spp: int = 64, seed: int = 0
                       ) -> np.ndarray:
-    """The layout under ``lighting`` as ``camera`` would photograph it: sRGB uint8 (height, width, 3).
+    """The layout under ``illumination`` as ``camera`` would photograph it: sRGB uint8 (height, width, 3).
 
     ``seed`` fixes both the procedural ground texture and the sampler, so equal arguments give equal bytes.
     """
     view = ideal_view(camera)
-    scene_dict = layout_scene_dict(layout, lighting, perspective_sensor(view.ideal, spp), seed=seed)
+    scene_dict = layout_scene_dict(layout, illumination, perspective_sensor(view.ideal, spp), seed=seed)
     scene = mitsuba().load_dict(scene_dict)
     linear = render_linear(scene, spp, seed)
     return Response("srgb").encode_exact(view.warp(linear))

@@ -31,7 +31,8 @@ from vc.keypoints import COCO_KEYPOINTS, COCO_SKELETON_1BASED
 if TYPE_CHECKING:
     from vc.render.synthesis import RenderedSample
 
-FORMAT_VERSION = 1
+#: 2: the manifest records the render plan (light, camera measurements, effects with their parameters).
+FORMAT_VERSION = 2
 MANIFEST = "manifest.json"
 ANNOTATIONS = "annotations.json"
 #: Annotation ids are sample index * this + instance id (a sample never holds this many people).
@@ -137,6 +138,21 @@ def read_manifest(root: Path) -> dict | None:
         raise InputError(path, "", f"cannot read the existing dataset manifest ({error})") from None
 
 
+def plan_entries(plan: dict) -> dict:
+    """The manifest's entries for a render plan (:meth:`vc.render.plan.RenderPlan.to_dict`): what the pixels were
+    rendered with, and nothing that varies from run to run (the effects' measured costs go to the render
+    summary), so a resumed render writes the same manifest."""
+    effects = [{key: value for key, value in effect.items() if key != "ms_per_sample"} for effect in plan["effects"]]
+    return {"lighting": plan["lighting"], "camera_measurements": plan["camera_measurements"], "effects": effects}
+
+
+def _rendered_with(manifest: dict) -> dict:
+    """What a dataset's pixels depend on beyond its settings: the light and each effect's state and parameters
+    (not the measured costs, which vary from run to run)."""
+    return {"illumination": manifest.get("lighting", {}).get("illumination"),
+            "effects": [(e.get("name"), e.get("on"), e.get("parameters")) for e in manifest.get("effects", [])]}
+
+
 def check_manifest(root: Path, existing: dict | None, manifest: dict) -> None:
     """Refuse to add to a dataset rendered with other settings: its shards would not belong together."""
     if existing is None:
@@ -146,6 +162,9 @@ def check_manifest(root: Path, existing: dict | None, manifest: dict) -> None:
         if existing.get(key) != manifest.get(key):
             raise InputError(path, key, "the output folder holds a dataset rendered with different "
                                         f"{key.replace('_', ' ')}; choose another folder or remove it")
+    if _rendered_with(existing) != _rendered_with(manifest):
+        raise InputError(path, "lighting", "the output folder holds a dataset rendered under other light or other "
+                                           "camera effects; choose another folder or remove it")
     for name, region in manifest["regions"].items():
         before = existing.get("regions", {}).get(name)
         if before is not None and before.get("samples") != region["samples"]:

@@ -18,7 +18,7 @@ from tqdm import tqdm
 from vc.io import write_json
 from vc.render import dataset
 from vc.render.bodies import BodyModel
-from vc.render.effects import EffectDecision
+from vc.render.plan import RenderPlan
 from vc.render.synthesis import RegionSynthesizer, RenderedSample, SynthesisSettings
 from vc.scenes.loader import Scene
 from vc.scenes.regions import Region
@@ -33,7 +33,7 @@ class RenderRequest:
     regions: list[Region]
     samples: int  # per region
     settings: SynthesisSettings
-    effects: list[EffectDecision]
+    plan: RenderPlan
     output: Path
     shard_size: int = DEFAULT_SHARD_SIZE
 
@@ -65,7 +65,7 @@ def manifest(request: RenderRequest, counts: dict[str, dict] | None = None) -> d
         "scene_hash": request.scene.content_hash,
         "camera": scene_camera.to_dict(),  # the full frame's camera, which regions crop (an exported bundle's)
         "settings": {**asdict(request.settings), "shard_size": request.shard_size},
-        "effects": [decision.to_dict() for decision in request.effects],
+        **dataset.plan_entries(request.plan.to_dict()),
         "categories": [dataset.PERSON_CATEGORY],
         "regions": regions,
         "versions": package_versions(),
@@ -95,7 +95,7 @@ def render_dataset(request: RenderRequest, bodies: BodyModel | None = None, show
             if not missing[region.name]:
                 continue
             region_start = time.perf_counter()
-            synthesizer = RegionSynthesizer(request.scene, region, bodies, request.settings)
+            synthesizer = RegionSynthesizer(request.scene, region, bodies, request.settings, request.plan)
             timings["scene_setup"] += time.perf_counter() - region_start
             samples = people = 0
             for shard in missing[region.name]:
@@ -137,7 +137,9 @@ def render_dataset(request: RenderRequest, bodies: BodyModel | None = None, show
         "seconds": round(elapsed, 2),
         "samples_per_second": round(sample_count / timings["shard_total"], 2) if sample_count else None,
         "stage_seconds": stage_seconds,
-        "effects": [decision.to_dict() for decision in request.effects],
+        "plan_seconds": round(request.plan.seconds, 2),
+        "lighting": request.plan.lighting.to_dict(),
+        "effects": [decision.to_dict() for decision in request.plan.effects],
     }
     write_json(root / "render_summary.json", summary)
     return summary

@@ -9,13 +9,14 @@ Ground: a rectangle over the walkable area (plus :data:`PLAZA_MARGIN_M`) carries
 large rectangles around it carry a repeating grass tile. Both sample one world-periodic grass pattern on the
 same texel grid, so the seam between them cannot be seen.
 
-Lighting (units): both strengths are irradiances in linear pixel units — a white Lambertian surface facing
-the sun reflects ``sun_strength / pi`` from the sun, and a horizontal one ``sky_strength / pi`` from the sky.
-That makes the sunlit/shadow contrast on the ground ``1 + sun_strength * sin(elevation) / sky_strength``.
-The sun is a ``directional`` emitter at ``sun_azimuth_deg`` (measured in the ground plane from +x towards +y,
-i.e. counter-clockwise seen from above) and ``sun_elevation_deg`` above the horizon; the sky is a uniform
-``constant`` emitter (Mitsuba's ``sunsky`` would need an exposure of its physical units, and this renderer only
-needs the sun/sky balance).
+Lighting: an :class:`~vc.calibration.lighting.Illumination`, irradiances in linear pixel units (a white
+Lambertian surface facing the sun reflects ``sun / pi`` from the sun, and a horizontal one ``sky / pi`` from the
+sky), so the sunlit/shadow contrast on the ground is ``1 + sun * sin(elevation) / sky``. The sun is a
+``directional`` emitter; the sky is a ``constant`` emitter of the same horizontal irradiance whatever its model:
+Mitsuba's ``sunsky`` is a clear sky in physical units (neither overcast nor the camera's exposure), and for the
+ground, which is all this scene is compared on, a CIE overcast sky differs from a uniform one only where walls
+hide part of it. The people renderer (:mod:`vc.render.people_renderer`) shades people with the sky's own
+distribution.
 """
 
 from __future__ import annotations
@@ -27,9 +28,10 @@ from typing import TYPE_CHECKING
 import cv2
 import numpy as np
 
+from vc.calibration.lighting import Illumination
+from vc.calibration.materials import DRY_GRASS_ALBEDO, GREEN_GRASS_ALBEDO, MEAN_DRYNESS, PAVED_ALBEDO
 from vc.render.mitsuba_setup import mitsuba
 from vc.scenes.layout import Box, Cylinder, Layout, Wall
-from vc.scenes.schema import Lighting
 
 if TYPE_CHECKING:
     import mitsuba as mi
@@ -53,12 +55,11 @@ JOINT_M = 0.015
 #: Width of the kerb stones along the edge of the walkable area.
 KERB_M = 0.12
 
-#: Linear albedos (sRGB primaries).
-PAVING_ALBEDO = np.array([0.34, 0.31, 0.27])
+#: Linear albedos (sRGB primaries); paving and grass are the lighting estimate's priors (vc.calibration.materials).
+PAVING_ALBEDO = PAVED_ALBEDO
+GRASS_ALBEDO = GREEN_GRASS_ALBEDO
 JOINT_ALBEDO = np.array([0.16, 0.15, 0.14])
 KERB_ALBEDO = np.array([0.39, 0.38, 0.36])
-GRASS_ALBEDO = np.array([0.07, 0.12, 0.035])
-DRY_GRASS_ALBEDO = np.array([0.13, 0.14, 0.05])
 DEFAULT_ALBEDO: Albedo = (0.30, 0.30, 0.30)
 WALL_ALBEDO: Albedo = (0.32, 0.14, 0.09)
 #: Albedo hints by obstacle name (the first keyword found in the lower-cased name wins).
@@ -71,16 +72,6 @@ NAMED_ALBEDOS: tuple[tuple[tuple[str, ...], Albedo], ...] = (
     (("tree", "trunk"), (0.10, 0.07, 0.05)),
     (("bin", "trash"), (0.06, 0.12, 0.08)),
 )
-#: Colours of sunlight and skylight (linear, unit luminance-ish): a warm sun and a blue sky.
-SUN_COLOUR = (1.0, 0.95, 0.86)
-SKY_COLOUR = (0.78, 0.90, 1.15)
-
-
-def sun_direction(azimuth_deg: float, elevation_deg: float) -> np.ndarray:
-    """Unit vector from the ground towards the sun: azimuth from +x towards +y, elevation above the horizon."""
-    azimuth, elevation = math.radians(azimuth_deg), math.radians(elevation_deg)
-    return np.array([math.cos(elevation) * math.cos(azimuth), math.cos(elevation) * math.sin(azimuth),
-                     math.sin(elevation)])
 
 
 def obstacle_albedo(name: str | None, default: Albedo = DEFAULT_ALBEDO) -> Albedo:
@@ -114,7 +105,7 @@ def grass_tile(texel_m: float, seed: int) -> np.ndarray:
     tufts = _periodic_noise(rng, (n, n), 0.15 / texel_m)
     blades = rng.standard_normal((n, n))
     brightness = np.exp(0.22 * patches + 0.12 * tufts + 0.10 * blades)
-    dryness = np.clip(0.3 + 0.25 * _periodic_noise(rng, (n, n), 3.0 / texel_m), 0.0, 1.0)[..., None]
+    dryness = np.clip(MEAN_DRYNESS + 0.25 * _periodic_noise(rng, (n, n), 3.0 / texel_m), 0.0, 1.0)[..., None]
     hue = (1.0 - dryness) * GRASS_ALBEDO + dryness * DRY_GRASS_ALBEDO
     return (hue * brightness[..., None]).astype(np.float32)
 
@@ -208,6 +199,15 @@ def _ground_rectangle(low: np.ndarray, high: np.ndarray, texture: dict) -> dict:
     return {"type": "rectangle", "to_world": to_world, "bsdf": {"type": "diffuse", "reflectance": texture}}
 
 
+def uniform_ground_shapes(layout: Layout, albedo: float) -> dict[str, dict]:
+    """The ground plane as one grey rectangle of ``albedo`` past any camera's view (for shading renders)."""
+    x0, y0, x1, y1 = layout.walkable_area().bounds
+    low, high = np.array([x0, y0]) - GROUND_EXTENT_M, np.array([x1, y1]) + GROUND_EXTENT_M
+    centre, half = (low + high) / 2, (high - low) / 2
+    to_world = mitsuba().ScalarTransform4f().translate([*centre, 0.0]).scale([*half, 1.0])
+    return {"ground": {"type": "rectangle", "to_world": to_world, "bsdf": _diffuse([albedo] * 3)}}
+
+
 def ground_shapes(layout: Layout, seed: int) -> dict[str, dict]:
     """The ground plane: the detailed rectangle around the walkable area and four grass rectangles around it."""
     albedo, low, texel_m = ground_texture(layout, seed)
@@ -262,26 +262,27 @@ def wall_shape(wall: Wall) -> dict:
                    math.degrees(math.atan2(y1 - y0, x1 - x0)), albedo)
 
 
-def emitters(lighting: Lighting) -> dict[str, dict]:
+def emitters(illumination: Illumination) -> dict[str, dict]:
     """Sun and sky emitters (see the module docstring for units); a sun below the horizon is left out."""
     result = {}
-    if lighting.sun_strength > 0 and lighting.sun_elevation_deg > 0:
-        towards_sun = sun_direction(lighting.sun_azimuth_deg, lighting.sun_elevation_deg)
-        result["sun"] = {"type": "directional", "direction": (-towards_sun).tolist(),
-                         "irradiance": {"type": "rgb", "value": [lighting.sun_strength * c for c in SUN_COLOUR]}}
-    if lighting.sky_strength > 0:
-        radiance = [lighting.sky_strength / math.pi * c for c in SKY_COLOUR]
+    if illumination.has_sun:
+        result["sun"] = {"type": "directional", "direction": (-illumination.towards_sun()).tolist(),
+                         "irradiance": {"type": "rgb", "value": list(illumination.sun_rgb)}}
+    if max(illumination.sky_rgb) > 0:
+        radiance = [value / math.pi for value in illumination.sky_rgb]
         result["sky"] = {"type": "constant", "radiance": {"type": "rgb", "value": radiance}}
     return result
 
 
-def layout_scene_dict(layout: Layout, lighting: Lighting, sensor: dict, seed: int = 0, max_depth: int = 4) -> dict:
-    """A Mitsuba scene dict: ground, obstacles and walls of ``layout`` lit by ``lighting``, seen by ``sensor``.
+def layout_scene_dict(layout: Layout, illumination: Illumination, sensor: dict, seed: int = 0, max_depth: int = 4,
+                      ground_albedo: float | None = None) -> dict:
+    """A Mitsuba scene dict: ground, obstacles and walls of ``layout`` lit by ``illumination``, seen by ``sensor``.
 
-    ``seed`` drives the procedural ground texture only (the renderer's own seed goes to ``mi.render``).
+    ``seed`` drives the procedural ground texture only (the renderer's own seed goes to ``mi.render``);
+    ``ground_albedo`` replaces that texture by a uniform grey ground (a shading render).
     """
     scene: dict = {"type": "scene", "integrator": {"type": "path", "max_depth": max_depth}, "sensor": sensor}
-    scene.update(ground_shapes(layout, seed))
+    scene.update(ground_shapes(layout, seed) if ground_albedo is None else uniform_ground_shapes(layout, ground_albedo))
     for index, obstacle in enumerate(layout.obstacles):
         if isinstance(obstacle, Box):
             scene[f"obstacle_{index}"] = box_shape(obstacle)
@@ -290,5 +291,5 @@ def layout_scene_dict(layout: Layout, lighting: Lighting, sensor: dict, seed: in
             scene[f"obstacle_{index}"], scene[f"obstacle_{index}_cap"] = tube, cap
     for index, wall in enumerate(layout.walls):
         scene[f"wall_{index}"] = wall_shape(wall)
-    scene.update(emitters(lighting))
+    scene.update(emitters(illumination))
     return scene

@@ -35,11 +35,11 @@ import cv2
 import numpy as np
 
 from vc.calibration.camera import Camera
-from vc.render.layout_scene import SKY_COLOUR, SUN_COLOUR, layout_scene_dict, sun_direction
+from vc.calibration.lighting import Illumination
+from vc.render.layout_scene import layout_scene_dict
 from vc.render.mitsuba_setup import mitsuba
 from vc.render.sensor import film_position, ideal_view, perspective_sensor
 from vc.scenes.layout import Layout
-from vc.scenes.schema import Lighting
 
 #: Where unused person slots are parked: far below the ground, out of every view and shadow ray.
 PARKED_Z_M = -1.0e4
@@ -99,7 +99,7 @@ class PeopleRenderer:
     the body topology shared by every person.
     """
 
-    def __init__(self, camera: Camera, layout: Layout, lighting: Lighting, faces: np.ndarray, vertex_count: int,
+    def __init__(self, camera: Camera, layout: Layout, illumination: Illumination, faces: np.ndarray, vertex_count: int,
                  max_people: int, spp: int, shadows: bool = True, texture_seed: int = 0) -> None:
         if spp < 1:
             raise ValueError(f"samples per pixel must be at least 1, got {spp}")
@@ -108,7 +108,7 @@ class PeopleRenderer:
         self.shadows = shadows
         self.view = ideal_view(camera)
         ideal = self.view.ideal
-        scene_dict = layout_scene_dict(layout, lighting, perspective_sensor(ideal, spp), seed=texture_seed)
+        scene_dict = layout_scene_dict(layout, illumination, perspective_sensor(ideal, spp), seed=texture_seed)
         static_dict = {key: value for key, value in scene_dict.items()
                        if key not in ("integrator", "sensor", "sun", "sky")}
         self.slot_keys = [f"person_{index}" for index in range(max_people)]
@@ -123,12 +123,13 @@ class PeopleRenderer:
         self._slot_lookup = self._slot_lookup_table()
         self._active = [False] * max_people
 
-        has_sun = lighting.sun_strength > 0 and lighting.sun_elevation_deg > 0
-        self.towards_sun = sun_direction(lighting.sun_azimuth_deg, lighting.sun_elevation_deg) if has_sun else None
-        self.sun_irradiance = np.array(SUN_COLOUR) * (lighting.sun_strength if has_sun else 0.0)
+        has_sun = illumination.has_sun
+        self.towards_sun = illumination.towards_sun() if has_sun else None
+        self.sun_irradiance = np.array(illumination.sun_rgb) * (1.0 if has_sun else 0.0)
         # Without a sun its terms are zero; a direction is kept so that the kernel is the same either way.
         self.sun_vector = self.towards_sun if has_sun else np.array([0.0, 0.0, 1.0])
-        self.sky_irradiance = np.array(SKY_COLOUR) * lighting.sky_strength
+        self.sky_irradiance = np.array(illumination.sky_rgb)
+        self.overcast_sky = illumination.sky_model == "cie_overcast"
         self.forward = camera.R[2]
         self.static_depth = self._static_depth()
         self.static_depth_real = self.view.warp(self.static_depth, cv2.INTER_NEAREST)
@@ -277,7 +278,8 @@ class PeopleRenderer:
         """Per-ray values: person coverage and radiance, and the static scene's irradiance with/without people.
 
         People are Lambertian and lit by the sun (one shadow ray) and the sky (one cosine-distributed ray, which
-        also picks up one bounce of light off whatever it hits: ground, obstacle or another person). The same
+        also picks up one bounce of light off whatever it hits: ground, obstacle or another person), the sky
+        with its own distribution (uniform, or the CIE overcast sky's brighter zenith). The same
         two rays from points of the static scene measure how much of the sun and the sky the people hide, so
         the shadow pass costs no extra rays for the sun and sky, only the people-free visibility tests.
         """
@@ -303,7 +305,10 @@ class PeopleRenderer:
 
         # Light arriving along the sky ray: the sky itself, or what the surface it hits reflects (lit by an
         # unshadowed-by-sky, sun-shadow-tested estimate: one bounce).
-        sky_radiance = mi.Color3f(*(float(c) for c in self.sky_irradiance / np.pi))
+        # The CIE overcast sky is brighter towards the zenith (vc.calibration.lighting.sky_gradation); the
+        # same weight goes on the shadow pass's sky terms, so the ground's sky irradiance stays ``sky`` on average.
+        gradation = (3.0 / 7.0) * (1.0 + 2.0 * dr.maximum(sky_ray.d.z, 0.0)) if self.overcast_sky else 1.0
+        sky_radiance = mi.Color3f(*(float(c) for c in self.sky_irradiance / np.pi)) * gradation
         bounce_normal = dr.select(dr.dot(bounce.n, sky_ray.d) > 0, -bounce.n, bounce.n)
         bounce_cosine = dr.maximum(dr.dot(bounce_normal, sun), 0.0)
         bounce_lit = is_person & bounce.is_valid() & (bounce_cosine > 0)
@@ -324,8 +329,8 @@ class PeopleRenderer:
             sky_closed_static = self.static_scene.ray_test(sky_ray, active=on_static)
             values["sun_with"] = dr.select(on_static & sun_open, sun_cosine, 0.0)
             values["sun_without"] = dr.select(on_static & (sun_cosine > 0) & ~sun_closed_static, sun_cosine, 0.0)
-            values["sky_with"] = dr.select(on_static & sky_open, 1.0, 0.0)
-            values["sky_without"] = dr.select(on_static & ~sky_closed_static, 1.0, 0.0)
+            values["sky_with"] = dr.select(on_static & sky_open, gradation, 0.0)
+            values["sky_without"] = dr.select(on_static & ~sky_closed_static, gradation, 0.0)
         for index in range(self.max_people):
             values[f"slot_{index}"] = dr.select(slot == index, 1.0, 0.0)
         return values

@@ -4,10 +4,11 @@ Every sample is a pure function of (scene hash, region, sample index, seed) (DES
 :func:`sample_rng` derives the one random generator a sample draws everything from — the number of people,
 where they stand, their bodies, clothes and gait, and the Mitsuba seed.
 
-Compositing happens in linear light: the region's crop of the background photograph is decoded with the
-camera response, dimmed by the shadow pass, covered by the premultiplied people, and encoded back with the
-same response. The crop is resized to the network input bilinearly with half-pixel centres
-(``cv2.INTER_LINEAR``), which is what an ONNX ``Resize`` (linear, ``half_pixel``) does to real frames.
+Compositing happens in linear light, in the order a camera works (:mod:`vc.render.effects`): the rendered
+people and shadow layers go through the optics effects, the region's crop of the background photograph
+(decoded with the camera response) is dimmed by the shadow layer and covered by the premultiplied people, the
+sensor effects act on that linear composite, the response encodes it to 8 bits, and the encoding effects act
+last. Labels come from the unaltered render passes (geometry), never from the effects' output.
 """
 
 from __future__ import annotations
@@ -18,19 +19,19 @@ import time
 import zlib
 from dataclasses import dataclass, field
 
-import cv2
 import numpy as np
 
 from vc.calibration.response import Response
 from vc.io import read_image
 from vc.render.appearance import sample_appearance, vertex_albedo
 from vc.render.bodies import BodyModel, sample_gait, sample_phenotype
+from vc.render.effects import MovingPerson, SampleLayers, build_effects
 from vc.render.labels import PersonTruth, instance_map, person_annotation
 from vc.render.people_renderer import PeopleRenderer, PersonGeometry
 from vc.render.placement import PlacementSampler, default_max_people
+from vc.render.plan import RenderPlan, region_background
 from vc.scenes.loader import Scene
 from vc.scenes.regions import Region
-from vc.scenes.schema import Lighting
 
 
 @dataclass(frozen=True)
@@ -40,7 +41,6 @@ class SynthesisSettings:
     spp: int = 16
     seed: int = 0
     max_people: int | None = None  # per sample; None: from the region's ground area (see placement)
-    shadows: bool = True
 
 
 @dataclass
@@ -53,23 +53,10 @@ class RenderedSample:
     timings: dict[str, float] = field(default_factory=dict)
 
 
-def scene_lighting(scene: Scene) -> Lighting:
-    """The lighting samples are rendered under. ``lighting: auto`` uses the default sun and sky until the
-    photometric calibration estimates them from the background (the seam for that work)."""
-    return scene.lighting if isinstance(scene.lighting, Lighting) else Lighting()
-
-
 def sample_rng(scene_hash: str, region_name: str, index: int, seed: int) -> np.random.Generator:
     """The random generator of one sample: a pure function of the scene, the region, the index and the seed."""
     scene_key = int(hashlib.sha256(scene_hash.encode()).hexdigest()[:16], 16)
     return np.random.default_rng(np.random.SeedSequence([seed, scene_key, zlib.crc32(region_name.encode()), index]))
-
-
-def region_background(image: np.ndarray, region: Region) -> np.ndarray:
-    """The region's crop of the full-frame image, resized to the network input (see the module docstring)."""
-    crop = region.crop
-    window = image[crop.y0:crop.y1, crop.x0:crop.x1]
-    return cv2.resize(window, region.input_size, interpolation=cv2.INTER_LINEAR)
 
 
 def yaw_rotation(yaw_deg: float) -> np.ndarray:
@@ -80,7 +67,8 @@ def yaw_rotation(yaw_deg: float) -> np.ndarray:
 class RegionSynthesizer:
     """Renders the samples of one region; build once (a Mitsuba scene and the background), call per index."""
 
-    def __init__(self, scene: Scene, region: Region, bodies: BodyModel, settings: SynthesisSettings) -> None:
+    def __init__(self, scene: Scene, region: Region, bodies: BodyModel, settings: SynthesisSettings,
+                 plan: RenderPlan) -> None:
         self.scene, self.region, self.bodies, self.settings = scene, region, bodies, settings
         self.camera = region.camera(scene.camera)
         self.response = Response(scene.response)
@@ -88,9 +76,10 @@ class RegionSynthesizer:
         self.placements = PlacementSampler(scene.camera, scene.layout, region.ground, scene.priors)
         self.max_people = settings.max_people if settings.max_people is not None else default_max_people(
             region.ground)
-        self.renderer = PeopleRenderer(self.camera, scene.layout, scene_lighting(scene), bodies.faces,
+        self.renderer = PeopleRenderer(self.camera, scene.layout, plan.illumination, bodies.faces,
                                        bodies.vertex_count, max(self.max_people, 1), settings.spp,
-                                       shadows=settings.shadows)
+                                       shadows=plan.shadows)
+        self.effects = build_effects(plan.effects, scene, region)
 
     def sample(self, index: int) -> RenderedSample:
         timings: dict[str, float] = {}
@@ -101,16 +90,19 @@ class RegionSynthesizer:
         gaits = [sample_gait(rng) for _ in placements]
         appearances = [sample_appearance(rng, phenotype) for phenotype in phenotypes]
         render_seed = int(rng.integers(0, 2**32))
+        effects_rng = np.random.default_rng(rng.integers(0, 2**63))
         posed = self.bodies.pose(phenotypes, gaits) if placements else None
         timings["pose"] = time.perf_counter() - start
 
-        people, truths = [], []
+        people, truths, moving = [], [], []
         for k, placement in enumerate(placements):
             rotation = yaw_rotation(placement.yaw_deg)
             offset = np.array([*placement.position, 0.0])
             vertices = (posed.vertices[k].astype(np.float64) @ rotation.T + offset).astype(np.float32)
             keypoints = posed.keypoints[k].astype(np.float64) @ rotation.T + offset
             people.append(PersonGeometry(vertices, vertex_albedo(self.bodies.vertex_parts, appearances[k])))
+            moving.append(MovingPerson(centre=offset + np.array([0.0, 0.0, float(posed.stature_m[k]) / 2]),
+                                       velocity=gaits[k].speed_mps * rotation[:, 0]))
             truths.append(PersonTruth(vertices=vertices, keypoints=keypoints, foot=offset,
                                       stature_m=float(posed.stature_m[k]), attributes={
                                           "position_m": [round(c, 4) for c in placement.position],
@@ -128,8 +120,7 @@ class RegionSynthesizer:
         timings.update({f"render.{step}": seconds for step, seconds in passes.timings.items()})
 
         mark = time.perf_counter()
-        linear = passes.beauty + (1.0 - passes.alpha)[..., None] * self.background * passes.shadow
-        image = self.response.encode(linear)
+        image = self._composite(passes, moving, effects_rng, timings)
         timings["composite"] = time.perf_counter() - mark
 
         mark = time.perf_counter()
@@ -142,3 +133,27 @@ class RegionSynthesizer:
                 annotations.append(annotation)
         timings["labels"] = time.perf_counter() - mark
         return RenderedSample(index, image, instances, annotations, passes.depth, timings)
+
+    def _composite(self, passes, moving: list[MovingPerson], rng: np.random.Generator,
+                   timings: dict[str, float]) -> np.ndarray:
+        """Optics effects on the layers, composite, sensor effects, encode, encoding effects (camera order)."""
+        layers = SampleLayers(beauty=passes.beauty, coverage=passes.coverage, shadow=passes.shadow, people=moving)
+        for effect in self.effects:
+            if effect.stage == "optics":
+                mark = time.perf_counter()
+                effect.on_layers(layers, rng)
+                timings[f"effect.{effect.name}"] = time.perf_counter() - mark
+        alpha = layers.alpha
+        linear = layers.beauty + (1.0 - alpha)[..., None] * self.background * layers.shadow
+        for effect in self.effects:
+            if effect.stage == "sensor":
+                mark = time.perf_counter()
+                linear = effect.on_linear(linear, alpha, rng)
+                timings[f"effect.{effect.name}"] = time.perf_counter() - mark
+        image = self.response.encode(linear)
+        for effect in self.effects:
+            if effect.stage == "encoding":
+                mark = time.perf_counter()
+                image = effect.on_encoded(image, rng)
+                timings[f"effect.{effect.name}"] = time.perf_counter() - mark
+        return image

@@ -21,7 +21,7 @@ from vc.calibration.readers import read_calibration
 from vc.errors import InputError
 from vc.io import image_size
 from vc.scenes.layout import Layout
-from vc.scenes.schema import Lighting, Priors, RegionPlanSpec, SceneFile
+from vc.scenes.schema import Lighting, Priors, RegionPlanSpec, SceneFile, SolarLighting
 
 #: Folder of the scenes shipped with the package (``demo``, ``pets09_s2l1``).
 BUNDLED_SCENES = Path(__file__).resolve().parent
@@ -38,10 +38,12 @@ class Scene:
     response: str
     layout: Layout
     priors: Priors
-    lighting: Lighting | str
+    lighting: Lighting | SolarLighting | str
     effects: list[str] | str
     regions: RegionPlanSpec
     content_hash: str
+    video_path: Path | None = None  # frames of the same camera, when the scene gives them
+    exposure_s: float | None = None  # the camera's exposure time, when the scene gives it
 
     @property
     def folder(self) -> Path:
@@ -141,13 +143,31 @@ def load_scene(path: str | Path, require_image: bool = True) -> Scene:
     return _scene(path, spec, image_path, camera, response, [image_path, *extra_files])
 
 
+def _video_path(path: Path, spec: SceneFile) -> Path | None:
+    if spec.video is None:
+        return None
+    video = (path.parent / spec.video).resolve()
+    if not video.exists():
+        raise InputError(path, "video", f"not found: {video}")
+    return video
+
+
+def _video_files(video: Path | None) -> list[Path]:
+    """The files a scene's video is (one file, or the images of a folder) for the content hash."""
+    if video is None:
+        return []
+    return [video] if video.is_file() else sorted(p for p in video.iterdir() if p.is_file())
+
+
 def _scene(path: Path, spec: SceneFile, image_path: Path, camera: Camera, response: str,
            hashed_files: list[Path]) -> Scene:
+    video = _video_path(path, spec)
     digest = hashlib.sha256()
-    for file in (path, *hashed_files):
+    for file in (path, *hashed_files, *_video_files(video)):
         digest.update(file.read_bytes())
     return Scene(
         name=spec.name, path=path, image_path=image_path, camera=camera, response=response, layout=spec.layout,
         priors=spec.priors, lighting=spec.lighting, effects=spec.effects, regions=spec.regions,
-        content_hash=digest.hexdigest(),
+        content_hash=digest.hexdigest(), video_path=video,
+        exposure_s=(spec.camera or spec.calibration).exposure_s,
     )

@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Annotated, Literal
 
 import numpy as np
-from pydantic import AfterValidator, Field, field_validator, model_validator
+from pydantic import AfterValidator, AwareDatetime, Field, field_validator, model_validator
 
 from vc.calibration.readers import READERS, UNIT_SCALE
 from vc.scenes.layout import Layout, StrictModel, Vec2, validate_ground_polygon
@@ -23,7 +23,8 @@ Size = Annotated[list[Annotated[int, Field(gt=0)]], Field(min_length=2, max_leng
 #: Camera responses accepted today: sRGB, linear, or a pure gamma ("gamma 2.2").
 RESPONSE_PATTERN = re.compile(r"^(srgb|linear|gamma\s+\d+(\.\d+)?)$")
 #: Effects the renderer knows (DESIGN.md "Effects"); ``auto`` lets the scene decide which it needs.
-EFFECT_NAMES = ("lens_distortion", "shadows", "motion_blur", "sensor_noise", "jpeg", "defocus")
+EFFECT_NAMES = ("lens_distortion", "shadows", "motion_blur", "optical_blur", "vignetting", "sensor_noise", "jpeg",
+                "defocus")
 
 
 def _response(value: str) -> str:
@@ -61,6 +62,7 @@ class InlineCamera(StrictModel):
     rvec: Annotated[list[float], Field(min_length=3, max_length=3)] | None = None
     t: Annotated[list[float], Field(min_length=3, max_length=3)]
     response: Response = "srgb"
+    exposure_s: float | None = Field(None, gt=0, le=1)  # exposure time, when known: decides motion blur
 
     @model_validator(mode="after")
     def _one_rotation(self) -> InlineCamera:
@@ -84,6 +86,7 @@ class CalibrationRef(StrictModel):
     size: Size | None = None
     units: str | None = None
     response: Response = "srgb"
+    exposure_s: float | None = Field(None, gt=0, le=1)  # exposure time, when known: decides motion blur
 
     @field_validator("format")
     @classmethod
@@ -128,6 +131,23 @@ class Lighting(StrictModel):
     sun_elevation_deg: float = Field(45.0, ge=-10, le=90)
     sun_strength: float = Field(3.0, ge=0)
     sky_strength: float = Field(1.0, ge=0)
+
+
+class SolarLighting(StrictModel):
+    """Where and when the background was taken: the sun's direction follows from them (a solar-position
+    library); its strength and the sky are still estimated from the background."""
+
+    location: Annotated[list[float], Field(min_length=2, max_length=2)]  # [latitude, longitude], degrees
+    time: AwareDatetime  # ISO 8601 with its UTC offset, e.g. 2009-03-20T10:30:00+00:00
+    north_deg: float  # where geographic north points in the scene: degrees from +x towards +y
+
+    @field_validator("location")
+    @classmethod
+    def _on_earth(cls, value: list[float]) -> list[float]:
+        latitude, longitude = value
+        if not (-90.0 <= latitude <= 90.0 and -180.0 <= longitude <= 180.0):
+            raise ValueError(f"location must be [latitude, longitude] in degrees, got {value}")
+        return value
 
 
 class NamedPolygon(StrictModel):
@@ -175,11 +195,12 @@ class SceneFile(StrictModel):
 
     name: str = Field(pattern=r"^[A-Za-z0-9_.-]+$")
     image: Path
+    video: Path | None = None  # frames of the same camera (a video file or a folder of images): noise, compression
     camera: InlineCamera | None = None
     calibration: CalibrationRef | None = None
     layout: Layout
     priors: Priors = Priors()
-    lighting: Literal["auto"] | Lighting = "auto"
+    lighting: Literal["auto"] | Lighting | SolarLighting = "auto"
     effects: Literal["auto"] | list[Literal[EFFECT_NAMES]] = "auto"  # type: ignore[valid-type]
     regions: RegionPlanSpec = RegionPlanSpec()
 

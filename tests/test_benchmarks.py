@@ -83,9 +83,9 @@ def test_the_report_tables_and_plots_each_knob(tmp_path):
     sweep_module._report({"width": [_compiled("64", 80.0, 0.97, None), _compiled("16", 37.4, 0.96, 0.67)],
                           "samples": [untimed]}, tmp_path)
     table = (tmp_path / "accuracy_vs_time.md").read_text().splitlines()
-    assert table[2] == "| samples | 1000 | 27 | 30.0 | 0.950 | 0.600 | 0.850 | — | — |"
-    assert table[3] == "| width | 64 | 27 | 80.0 | 0.970 | 0.600 | 0.870 | 40.0 | — |"
-    assert table[4] == "| width | 16 | 27 | 37.4 | 0.960 | 0.600 | 0.860 | 40.0 | 0.67 |"
+    assert table[2] == "| samples | 1000 | 27 | off | 30.0 | 0.950 | 0.600 | 0.850 | — | — |"
+    assert table[3] == "| width | 64 | 27 | off | 80.0 | 0.970 | 0.600 | 0.870 | 40.0 | — |"
+    assert table[4] == "| width | 16 | 27 | off | 37.4 | 0.960 | 0.600 | 0.860 | 40.0 | 0.67 |"
     assert (tmp_path / "accuracy_vs_time_width.png").stat().st_size > 10_000
     assert table[-1].startswith("Not measured yet: spp 4, 16, 64; effects on, off;")
     assert "width 32" in table[-1]
@@ -257,3 +257,37 @@ def test_a_sweep_keeps_what_another_sweep_reported_while_it_measured(tmp_path, m
     sweep_module.main()
     reported = json.loads((out / "accuracy_vs_time.json").read_text())
     assert [p["value"] for p in reported["seed"]] == ["1"] and [p["value"] for p in reported["input"]] == ["40 px"]
+
+
+def test_photometry_off_keeps_the_keys_of_the_renders_made_before_it():
+    """Every point measured before photometric matching was rendered "off": its keys must stay what they were,
+    and the matched standard compile must get new ones."""
+    off = KNOBS["photometry"]["off"]
+    before = off.key("spp", "effects", "samples", "target_person_px", "single_region")
+    assert off.render_key() == before != BASE.render_key()
+    assert KNOBS["photometry"]["matched"] == BASE
+    assert len({p.render_key() for p in KNOBS["photometry"].values()}) == len(sweep_module.PHOTOMETRY)
+
+
+def test_photometry_overrides_switch_the_light_and_the_camera_effects(tmp_path):
+    from vc.scenes.schema import Lighting
+
+    sweep = _sweep(tmp_path)
+    off = sweep.photometry_overrides("off")
+    assert off == {"lighting": Lighting().model_dump(), "effects": ["lens_distortion", "shadows"]}
+    assert sweep.photometry_overrides("light") == {"effects": ["lens_distortion", "shadows"]}
+    no_blur = sweep.photometry_overrides("no optical_blur")["effects"]
+    assert "optical_blur" not in no_blur and "lens_distortion" in no_blur
+
+
+def test_the_effects_ablation_reports_what_each_variant_costs(tmp_path):
+    ablation = load_benchmark("effects_ablation")
+    rows = [{"value": "off", "real_ap50": 0.87, "synthetic_ap50": 0.96, "synthetic_pckh": 0.68,
+             "compile_minutes": 54.0, "render_ms_per_sample": 72.0, "effects_on": {"shadows": None}},
+            {"value": "matched", "synthetic_ap50": 0.95, "synthetic_pckh": 0.66, "compile_minutes": 56.0,
+             "render_ms_per_sample": 80.0, "effects_on": {"shadows": None, "sensor_noise": 5.9}}]
+    ablation.report(rows, tmp_path)
+    table = (tmp_path / "effects_ablation.md").read_text().splitlines()
+    assert table[2] == ("| off | default sun, no camera effects | 0.870 | 0.960 | 0.680 | 72 | shadows | 54.0 |")
+    assert "sensor_noise (5.9)" in table[3] and "| — |" in table[3]
+    assert json.loads((tmp_path / "effects_ablation.json").read_text())[1]["value"] == "matched"

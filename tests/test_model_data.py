@@ -13,9 +13,9 @@ from vc.deploy.heatmaps import CENTRE_CHANNEL, HANDEDNESS_CHANNELS, HEATMAP_CHAN
 from vc.errors import InputError
 from vc.model.codec import CodecConfig
 from vc.model.data import Augmentation, TrainingStream, open_region
-from vc.render.effects import plan_effects
 from vc.render.job import RenderRequest, render_dataset
-from vc.render.synthesis import SynthesisSettings, scene_lighting
+from vc.render.plan import plan_render
+from vc.render.synthesis import SynthesisSettings
 from vc.scenes.loader import BUNDLED_SCENES, load_scene
 from vc.scenes.regions import plan_regions
 
@@ -26,10 +26,10 @@ pytestmark = pytest.mark.xdist_group("anny")
 def small_dataset(tmp_path_factory, body_model) -> Path:
     scene = load_scene(BUNDLED_SCENES / "demo" / "scene.yaml")
     root = tmp_path_factory.mktemp("train-data")
-    effects = plan_effects(scene, scene_lighting(scene))
-    render_dataset(RenderRequest(scene=scene, regions=plan_regions(scene)[:1], samples=6,
-                                 settings=SynthesisSettings(spp=2, shadows=False), effects=effects, output=root,
-                                 shard_size=3), bodies=body_model, show_progress=False)
+    regions = plan_regions(scene)
+    render_dataset(RenderRequest(scene=scene, regions=regions[:1], samples=6, settings=SynthesisSettings(spp=2),
+                                 plan=plan_render(scene, regions, time_costs=False), output=root, shard_size=3),
+                   bodies=body_model, show_progress=False)
     return root
 
 

@@ -14,6 +14,7 @@ import trimesh
 from vc.calibration.camera import Camera, look_at
 from vc.calibration.distortion import BrownConrady
 from vc.render.people_renderer import PeopleRenderer, PersonGeometry
+from vc.render.relight import explicit_illumination
 from vc.scenes.layout import Box, Layout
 from vc.scenes.schema import Lighting
 
@@ -23,6 +24,9 @@ CENTROID_TOLERANCE_PX = 0.1
 LAYOUT = Layout(walkable=[[[-6.0, -6.0], [6.0, -6.0], [6.0, 6.0], [-6.0, 6.0]]])
 #: Points the sphere is centred on: above the ground, near the centre and towards the corners.
 SPHERE_CENTRES = np.array([[0.0, 0.0, 0.6], [1.1, 0.5, 1.3], [-1.5, 0.2, 0.4]])
+
+#: The default sun and sky of an explicit ``lighting:`` block.
+DEFAULT_LIGHT = explicit_illumination(Lighting())
 
 
 def _camera(K: np.ndarray, distortion=None) -> Camera:
@@ -36,7 +40,7 @@ DISTORTED = _camera(np.array([[148.0, 0.0, 83.6], [0.0, 156.0, 57.2], [0.0, 0.0,
 
 
 def _sphere_renderer(camera: Camera, spp: int = 64) -> PeopleRenderer:
-    return PeopleRenderer(camera, LAYOUT, Lighting(), np.asarray(SPHERE.faces), len(SPHERE.vertices), max_people=2,
+    return PeopleRenderer(camera, LAYOUT, DEFAULT_LIGHT, np.asarray(SPHERE.faces), len(SPHERE.vertices), max_people=2,
                           spp=spp)
 
 
@@ -88,7 +92,7 @@ def test_depth_pass_measures_camera_z_of_the_first_surface() -> None:
 def test_second_person_and_obstacles_occlude() -> None:
     wall_in_front = Box(type="box", center=[0.1, -2.0, 1.0], size=[0.6, 0.4, 2.0])
     layout = Layout(walkable=LAYOUT.walkable, obstacles=[wall_in_front])
-    renderer = PeopleRenderer(IDEAL, layout, Lighting(), np.asarray(SPHERE.faces), len(SPHERE.vertices),
+    renderer = PeopleRenderer(IDEAL, layout, DEFAULT_LIGHT, np.asarray(SPHERE.faces), len(SPHERE.vertices),
                               max_people=2, spp=16)
     behind_box = _sphere(np.array([0.0, 0.0, 0.5]))
     in_the_open = _sphere(np.array([1.1, 0.5, 1.3]))
@@ -99,7 +103,8 @@ def test_second_person_and_obstacles_occlude() -> None:
 
 
 def test_shadow_pass_darkens_the_ground_where_the_sun_is_blocked_and_only_there() -> None:
-    lighting = Lighting(sun_azimuth_deg=0.0, sun_elevation_deg=45.0, sun_strength=3.0, sky_strength=1.0)
+    lighting = explicit_illumination(Lighting(sun_azimuth_deg=0.0, sun_elevation_deg=45.0, sun_strength=3.0,
+                                                   sky_strength=1.0))
     renderer = PeopleRenderer(IDEAL, LAYOUT, lighting, np.asarray(SPHERE.faces), len(SPHERE.vertices),
                               max_people=1, spp=16)
     centre = np.array([0.0, 0.0, 0.5])

@@ -25,9 +25,9 @@ from vc.cli import render as render_cli
 from vc.errors import EXIT_BAD_INPUT
 from vc.io import read_image
 from vc.render import dataset, job
-from vc.render.effects import effect_on, plan_effects
 from vc.render.job import RenderRequest, render_dataset
-from vc.render.synthesis import RegionSynthesizer, SynthesisSettings, scene_lighting
+from vc.render.plan import plan_render
+from vc.render.synthesis import RegionSynthesizer, SynthesisSettings
 from vc.scenes.loader import BUNDLED_SCENES, load_scene
 from vc.scenes.regions import plan_regions
 
@@ -44,12 +44,16 @@ def demo_scene():
 
 
 @pytest.fixture(scope="module")
-def labelled_samples(demo_scene, body_model) -> list[tuple[RegionSynthesizer, object]]:
-    effects = plan_effects(demo_scene, scene_lighting(demo_scene))
-    settings = SynthesisSettings(spp=8, shadows=effect_on(effects, "shadows"))
+def demo_plan(demo_scene):
+    return plan_render(demo_scene, plan_regions(demo_scene), time_costs=False)
+
+
+@pytest.fixture(scope="module")
+def labelled_samples(demo_scene, demo_plan, body_model) -> list[tuple[RegionSynthesizer, object]]:
+    settings = SynthesisSettings(spp=8)
     samples = []
     for region in plan_regions(demo_scene):
-        synthesizer = RegionSynthesizer(demo_scene, region, body_model, settings)
+        synthesizer = RegionSynthesizer(demo_scene, region, body_model, settings, demo_plan)
         samples += [(synthesizer, synthesizer.sample(index)) for index in range(LABEL_SAMPLES)]
     return samples
 
@@ -109,11 +113,16 @@ def rendered_dataset(tmp_path_factory, demo_scene, body_model) -> Path:
     return root
 
 
+#: Render plans by scene hash: a plan takes seconds (the light is estimated), and every request here shares one.
+_PLANS: dict = {}
+
+
 def _request(scene, root: Path, samples: int) -> RenderRequest:
-    effects = plan_effects(scene, scene_lighting(scene))
-    return RenderRequest(scene=scene, regions=plan_regions(scene), samples=samples,
-                         settings=SynthesisSettings(spp=4, shadows=effect_on(effects, "shadows")),
-                         effects=effects, output=root, shard_size=5)
+    regions = plan_regions(scene)
+    if scene.content_hash not in _PLANS:
+        _PLANS[scene.content_hash] = plan_render(scene, regions, time_costs=False)
+    return RenderRequest(scene=scene, regions=regions, samples=samples, settings=SynthesisSettings(spp=4),
+                         plan=_PLANS[scene.content_hash], output=root, shard_size=5)
 
 
 def test_dataset_layout_and_manifest(rendered_dataset, demo_scene) -> None:

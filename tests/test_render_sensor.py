@@ -19,6 +19,7 @@ from vc.calibration.distortion import BrownConrady, TsaiRadial
 from vc.render.background import render_background
 from vc.render.layout_scene import layout_scene_dict
 from vc.render.mitsuba_setup import mitsuba
+from vc.render.relight import explicit_illumination
 from vc.render.sensor import film_position, ideal_view, is_ideal, perspective_sensor
 from vc.scenes.layout import Box, Cylinder, Layout, Wall, densify_segments
 from vc.scenes.schema import Lighting
@@ -30,6 +31,10 @@ POINTS = np.array([[0.0, 0.0, 0.5], [0.9, 0.4, 1.2], [-1.6, 0.2, 0.1], [1.55, -0
 #: centroid by an amount that depends on sub-pixel phase (measured up to 0.06 px at 3.5 px, 0.09 px at 2 px).
 SPHERE_RADIUS_M = 0.08
 CENTROID_TOLERANCE_PX = 0.1
+
+#: The default sun and sky of an explicit ``lighting:`` block, and the same with the sun high up.
+DEFAULT_LIGHT = explicit_illumination(Lighting())
+HIGH_SUN = explicit_illumination(Lighting(sun_elevation_deg=80.0))
 
 
 def _camera(K: np.ndarray, distortion=None) -> Camera:
@@ -134,7 +139,7 @@ def test_rendered_paving_lies_where_the_camera_sees_the_walkable_polygon() -> No
     R, t = look_at([0.3, -4.0, 6.0], [0.0, 0.6, 0.0])
     camera = Camera(96, 72, np.array([[70.0, 0.0, 46.0], [0.0, 72.0, 37.0], [0.0, 0.0, 1.0]]), R, t,
                     BrownConrady(k1=-0.15))
-    image = render_background(camera, Layout(walkable=[polygon]), Lighting(sun_elevation_deg=80.0), spp=8).astype(float)
+    image = render_background(camera, Layout(walkable=[polygon]), HIGH_SUN, spp=8).astype(float)
     paved = image[..., 2] > 0.75 * image[..., 1]  # grey paving is about as blue as green; grass is not
     # Expected: where each pixel's ray meets the ground; pixels whose neighbourhood straddles an edge are skipped.
     offsets = [(0.0, 0.0), (-0.75, -0.75), (-0.75, 0.75), (0.75, -0.75), (0.75, 0.75)]
@@ -173,7 +178,7 @@ def test_obstacle_silhouette_matches_its_projected_hull(blocker: Box | Cylinder 
     layout = Layout(walkable=[[[-3.0, -3.0], [3.0, -3.0], [3.0, 3.0]]], obstacles=obstacles, walls=walls)
     R, t = look_at([1.5, -4.5, 4.0], [0.0, 0.8, 0.4])
     camera = Camera(120, 90, np.array([[110.0, 0.0, 57.5], [0.0, 110.0, 46.0], [0.0, 0.0, 1.0]]), R, t)
-    scene = layout_scene_dict(layout, Lighting(), perspective_sensor(camera, 16))
+    scene = layout_scene_dict(layout, DEFAULT_LIGHT, perspective_sensor(camera, 16))
     scene = {key: value for key, value in scene.items() if not key.startswith("ground_")}
     scene["integrator"] = {"type": "aov", "aovs": "depth:depth"}
     mi = mitsuba()
@@ -194,6 +199,6 @@ def test_render_background_is_deterministic() -> None:
                                 "height": 0.9}],
                     walls=[{"start": [-3.0, 4.0], "end": [3.0, 4.0], "height": 1.5}])
     camera = REAL_CAMERA.resized(80, 60)
-    first = render_background(camera, layout, Lighting(), spp=4, seed=1)
+    first = render_background(camera, layout, DEFAULT_LIGHT, spp=4, seed=1)
     assert first.shape == (60, 80, 3) and first.dtype == np.uint8 and first.std() > 5
-    np.testing.assert_array_equal(first, render_background(camera, layout, Lighting(), spp=4, seed=1))
+    np.testing.assert_array_equal(first, render_background(camera, layout, DEFAULT_LIGHT, spp=4, seed=1))

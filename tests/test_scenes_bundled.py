@@ -25,9 +25,10 @@ def test_demo_scene_is_self_contained_and_in_view():
 @pytest.mark.slow
 def test_demo_background_is_the_render_of_its_layout():
     from vc.render.background import render_background
+    from vc.render.relight import explicit_illumination
 
     scene = load_scene(BUNDLED_SCENES / "demo" / "scene.yaml")
-    rendered = render_background(scene.camera, scene.layout, scene.lighting, spp=128, seed=0)
+    rendered = render_background(scene.camera, scene.layout, explicit_illumination(scene.lighting), spp=128, seed=0)
     shipped = read_image(scene.image_path)
     # Same seed, same bytes on one machine; allow for LLVM code generation differing between CPUs.
     assert np.abs(rendered.astype(int) - shipped.astype(int)).mean() < 1.0

@@ -21,8 +21,8 @@ from vc import __version__
 from vc.cli.common import handles_input_errors, non_negative_int, positive_int
 from vc.errors import InputError
 from vc.io import write_image
-from vc.render.effects import EffectDecision, effect_on, plan_effects
-from vc.render.synthesis import SynthesisSettings, scene_lighting
+from vc.render.plan import RenderPlan, plan_render
+from vc.render.synthesis import SynthesisSettings
 from vc.scenes.loader import Scene, load_scene
 from vc.scenes.regions import Region, plan_regions
 
@@ -47,8 +47,7 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _selected_regions(scene: Scene, names: list[str] | None) -> list[Region]:
-    regions = plan_regions(scene)
+def _selected_regions(scene: Scene, regions: list[Region], names: list[str] | None) -> list[Region]:
     if not names:
         return regions
     known = {region.name: region for region in regions}
@@ -68,18 +67,36 @@ def _writable_folder(path: Path) -> None:
         raise InputError(path, "-o", "the output folder is not writable")
 
 
-def _print_effects(effects: list[EffectDecision]) -> None:
-    for decision in effects:
-        print(f"  {'on ' if decision.on else 'off'}  {decision.name:<16} {decision.reason}")
+def _short(parameters: dict) -> str:
+    """An effect's parameters on one line (nested per-region values left to the manifest)."""
+    return ", ".join(f"{key} {value}" for key, value in parameters.items() if not isinstance(value, dict | list))
 
 
-def _preview(scene: Scene, regions: list[Region], settings: SynthesisSettings, count: int, output: Path) -> int:
+def print_plan(plan: RenderPlan) -> None:
+    """The light and the effects plan: each effect on/off, why, its parameters and its cost per sample."""
+    lighting = plan.lighting
+    print(f"light  {lighting.summary()}")
+    if lighting.estimate is not None:
+        print(f"       {lighting.estimate.reason}")
+    if lighting.fit is not None:
+        print("       re-render vs background: " + ", ".join(
+            f"{fit.region} {fit.error:+.1%}" for fit in lighting.fit.regions if fit.error is not None))
+    print(f"effects  (planned in {plan.seconds:.1f} s; camera measured on {plan.camera.frames_source})")
+    for decision in plan.effects:
+        cost = "" if decision.ms_per_sample is None else f"  [{decision.ms_per_sample:.1f} ms/sample]"
+        print(f"  {'on ' if decision.on else 'off'}  {decision.name:<16} {decision.reason}{cost}")
+        if decision.on and _short(decision.parameters):
+            print(f"       {'':<16} {_short(decision.parameters)}")
+
+
+def _preview(scene: Scene, regions: list[Region], settings: SynthesisSettings, plan: RenderPlan, count: int,
+             output: Path) -> int:
     from vc.render.bodies import BodyModel
     from vc.render.preview import contact_sheet
     from vc.render.synthesis import RegionSynthesizer
 
     bodies = BodyModel()
-    synthesizers = [RegionSynthesizer(scene, region, bodies, settings) for region in regions]
+    synthesizers = [RegionSynthesizer(scene, region, bodies, settings, plan) for region in regions]
     samples = []
     for index in range(count):
         synthesizer = synthesizers[index % len(synthesizers)]
@@ -94,17 +111,18 @@ def _preview(scene: Scene, regions: list[Region], settings: SynthesisSettings, c
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     scene = load_scene(args.scene)
-    regions = _selected_regions(scene, args.regions)
-    effects = plan_effects(scene, scene_lighting(scene))
-    settings = SynthesisSettings(spp=args.spp, seed=args.seed, max_people=args.max_people,
-                                 shadows=effect_on(effects, "shadows"))
+    all_regions = plan_regions(scene)
+    regions = _selected_regions(scene, all_regions, args.regions)
+    settings = SynthesisSettings(spp=args.spp, seed=args.seed, max_people=args.max_people)
     print(f"scene  {scene.name}  regions {', '.join(region.name for region in regions)}  spp {args.spp}  "
           f"seed {args.seed}")
-    print("effects")
-    _print_effects(effects)
+    # The plan covers every region, whichever are rendered now, so that regions rendered by separate runs into
+    # one folder share one light and one camera.
+    plan = plan_render(scene, all_regions)
+    print_plan(plan)
     if args.preview:
         _writable_folder(args.output.parent)
-        return _preview(scene, regions, settings, args.samples or PREVIEW_SAMPLES, args.output)
+        return _preview(scene, regions, settings, plan, args.samples or PREVIEW_SAMPLES, args.output)
     if args.samples is None:
         raise InputError(args.output, "--samples", "how many samples per region? (--samples N, N >= 1)")
     _writable_folder(args.output)
@@ -112,7 +130,7 @@ def main(argv: list[str] | None = None) -> int:
     from vc.render.job import RenderRequest, render_dataset
 
     request = RenderRequest(scene=scene, regions=regions, samples=args.samples, settings=settings,
-                            effects=effects, output=args.output, shard_size=args.shard_size)
+                            plan=plan, output=args.output, shard_size=args.shard_size)
     summary = render_dataset(request, show_progress=not args.quiet)
     for name, counts in summary["dataset"].items():
         now = summary["rendered_now"].get(name)

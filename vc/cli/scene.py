@@ -4,6 +4,7 @@
     vc-scene show SCENE -o overlay.png
     vc-scene background VIDEO -o background.png [--frames N]
     vc-scene synthesize SCENE -o background.png [--spp S] [--seed K]
+    vc-scene light SCENE -o compare.png [--json OUT.json]
 
 Bad input (a malformed scene, a missing file, an unreadable video) prints one ``error:`` line naming the file
 and the field, and exits with status 2.
@@ -109,14 +110,18 @@ def cmd_background(args: argparse.Namespace) -> int:
 
 def cmd_synthesize(args: argparse.Namespace) -> int:
     from vc.render.background import render_background
+    from vc.render.relight import explicit_illumination
     from vc.scenes.schema import Lighting
 
     if args.spp < 1:
         raise InputError(None, "--spp", f"must be at least 1, got {args.spp}")
     scene = load_scene(args.scene, require_image=False)
+    # A background to be made has no image to estimate the light from: the scene's explicit lighting, else the
+    # default sun and sky.
     lighting = scene.lighting if isinstance(scene.lighting, Lighting) else Lighting()
     started = time.perf_counter()
-    image = render_background(scene.camera, scene.layout, lighting, spp=args.spp, seed=args.seed)
+    image = render_background(scene.camera, scene.layout, explicit_illumination(lighting), spp=args.spp,
+                              seed=args.seed)
     seconds = time.perf_counter() - started
     write_image(args.output, image)
     write_json(args.output.with_suffix(".json"), {
@@ -124,6 +129,38 @@ def cmd_synthesize(args: argparse.Namespace) -> int:
         "size": list(scene.camera.size), "lighting": lighting.model_dump(), "seconds": round(seconds, 2),
     })
     print(f"wrote {args.output}: {scene.camera.width}x{scene.camera.height} at {args.spp} spp in {seconds:.1f} s")
+    return 0
+
+
+def cmd_light(args: argparse.Namespace) -> int:
+    from vc.render.relight import estimate_scene_lighting, explicit_illumination, sun_angle_error_deg, write_comparison
+    from vc.scenes.schema import Lighting
+
+    scene = load_scene(args.scene)
+    regions = plan_regions(scene)
+    started = time.perf_counter()
+    solution = estimate_scene_lighting(scene, regions)
+    write_comparison(scene, regions, solution, args.output)
+    result = {"scene": scene.name, **solution.to_dict(), "seconds": round(time.perf_counter() - started, 2)}
+    print(f"light  {solution.summary()}")
+    print(f"       {solution.estimate.reason}")
+    if isinstance(scene.lighting, Lighting):
+        given = explicit_illumination(scene.lighting)
+        comparison = {"scene_file": given.to_dict()}
+        if given.has_sun and solution.illumination.has_sun:
+            comparison["sun_direction_error_deg"] = round(sun_angle_error_deg(given, solution.illumination), 2)
+        result["compared_with_scene_file"] = comparison
+        sun = f"sun {given.sun_to_sky:.2f}x sky" if given.has_sun else "no sun"
+        off = (f", sun direction off by {comparison['sun_direction_error_deg']:.1f} deg"
+               if "sun_direction_error_deg" in comparison else "")
+        print(f"       the scene file gives: {sun}{off} (renders use the scene file's)")
+    for fit in solution.fit.regions:
+        error = "no known ground" if fit.error is None else f"{fit.error:+.1%}"
+        print(f"  {fit.region:<6} background {fit.background:.3f}  re-render {fit.rendered:.3f}  {error}")
+    if args.json:
+        write_json(args.json, result)
+    print(f"wrote {args.output}" + (f" and {args.json}" if args.json else "")
+          + f" in {time.perf_counter() - started:.1f} s")
     return 0
 
 
@@ -154,6 +191,12 @@ def build_parser() -> argparse.ArgumentParser:
     synthesize.add_argument("--spp", type=int, default=128, help="samples per pixel (default 128)")
     synthesize.add_argument("--seed", type=int, default=0, help="texture and sampler seed (default 0)")
     synthesize.set_defaults(run=cmd_synthesize)
+
+    light = commands.add_parser("light", help="estimate the light from the background; compare its re-render")
+    light.add_argument("scene", type=Path)
+    light.add_argument("-o", "--output", type=Path, required=True, help="comparison figure (PNG)")
+    light.add_argument("--json", type=Path, help="also write the estimate and the per-region errors as JSON here")
+    light.set_defaults(run=cmd_light)
     return parser
 
 

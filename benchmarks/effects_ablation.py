@@ -1,0 +1,71 @@
+"""What realism costs and buys: the renders' light and camera effects switched off one at a time.
+
+    python benchmarks/effects_ablation.py --scene SCENE [--value VALUE ...] [--work DIR]
+        [--dev-video V --dev-gt GT.txt --dev-frames 1:400:5] [--out benchmarks/results] [--no-runtime]
+
+Runs the ``photometry`` knob of the accuracy-vs-time sweep (``benchmarks/accuracy_vs_time.py``, whose report it
+joins): the standard compile with photometric matching off (the default sun, no camera effects), with the light
+estimated from the background alone, matched (the standard compile), and matched less each camera effect. Each
+point is a full standard compile (about an hour on 2 cores), kept in ``--work`` and resumed like every sweep point.
+
+Beside the sweep's numbers (real and synthetic AP50, PCKh, compile minutes, runtime) it writes what each variant
+costs to render: ms per sample over the whole render, and the plan's measured cost of each effect that was on,
+to ``effects_ablation.json`` and ``effects_ablation.md`` in ``--out``.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import accuracy_vs_time as sweep  # noqa: E402
+
+from vc.io import atomic_path, write_json  # noqa: E402
+
+
+def render_costs(work: Path, point: sweep.Point) -> dict:
+    """The render's ms per sample (all regions) and each effect's planned ms per sample, from the renders."""
+    renders = work / "renders" / point.render_key()
+    summary_path, manifest_path = renders / "render_summary.json", renders / "manifest.json"
+    if not manifest_path.is_file():
+        return {}
+    manifest = json.loads(manifest_path.read_text())
+    samples = sum(region["counts"]["samples"] for region in manifest["regions"].values() if "counts" in region)
+    seconds_record = work / "renders" / f"{point.render_key()}.seconds.json"
+    result = {"effects_on": {effect["name"]: effect.get("ms_per_sample") for effect in manifest.get("effects", [])
+                             if effect["on"]},
+              "lighting": manifest.get("lighting", {}).get("illumination")}
+    if seconds_record.is_file() and samples:
+        result["render_ms_per_sample"] = 1000.0 * json.loads(seconds_record.read_text())["seconds"] / samples
+    if summary_path.is_file():
+        result["plan_seconds"] = json.loads(summary_path.read_text()).get("plan_seconds")
+    return result
+
+
+def report(rows: list[dict], out: Path) -> None:
+    write_json(out / "effects_ablation.json", rows)
+    lines = ["| renders | what they leave out | real AP50 | synthetic AP50 | synthetic PCKh | render ms/sample | "
+             "effects on (ms/sample each) | compile min |", "|---|---|---|---|---|---|---|---|"]
+    for row in rows:
+        real = f"{row['real_ap50']:.3f}" if "real_ap50" in row else "—"
+        render = f"{row['render_ms_per_sample']:.0f}" if "render_ms_per_sample" in row else "—"
+        effects = ", ".join(f"{name} ({ms:.1f})" if ms is not None else name
+                            for name, ms in row.get("effects_on", {}).items()) or "—"
+        lines.append(f"| {row['value']} | {sweep.PHOTOMETRY[row['value']]} | {real} | {row['synthetic_ap50']:.3f} | "
+                     f"{row['synthetic_pckh']:.3f} | {render} | {effects} | {row['compile_minutes']:.1f} |")
+    with atomic_path(out / "effects_ablation.md") as temporary:
+        temporary.write_text("\n".join(lines) + "\n")
+
+
+def main(argv: list[str] | None = None) -> None:
+    args = sweep.run(sweep.build_parser(knob="photometry"), argv)
+    measured = json.loads((args.out / "accuracy_vs_time.json").read_text()).get("photometry", [])
+    rows = [{**point, **render_costs(args.work, sweep.KNOBS["photometry"][point["value"]])} for point in measured
+            if point["value"] in sweep.KNOBS["photometry"]]
+    report(rows, args.out)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,147 @@
+"""Lighting estimated from one background: scenes the project renders under known light are recovered (sun
+direction within 10 degrees, sun/sky ratio within 20 %, "no sun" under an overcast sky), the sky's absolute
+scale comes out of the ground albedo prior, and the units and models it rests on hold."""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import replace
+from datetime import UTC, datetime
+
+import numpy as np
+import pytest
+from conftest import REPO
+
+from vc.calibration.lighting import (
+    Illumination,
+    estimate_lighting,
+    ground_view,
+    illumination_from_strengths,
+    sky_gradation,
+    solar_position,
+)
+from vc.calibration.materials import PAVED_ALBEDO, VEGETATION_ALBEDO, ground_albedo_prior, luminance
+from vc.calibration.response import Response
+from vc.render.background import render_background
+from vc.render.relight import layout_solids, sun_angle_error_deg
+from vc.scenes.loader import load_scene
+
+DEMO = REPO / "scenes" / "demo" / "scene.yaml"
+#: The demo camera at half resolution: shadows stay several pixels wide, renders take a second.
+HALF = 0.5
+
+
+@pytest.fixture(scope="module")
+def demo():
+    scene = load_scene(DEMO)
+    width, height = (round(side * HALF) for side in scene.camera.size)
+    return scene, scene.camera.resized(width, height)
+
+
+def _estimate(demo, illumination: Illumination):
+    scene, camera = demo
+    image = render_background(camera, scene.layout, illumination, spp=16, seed=3)
+    clipped = (image.min(axis=-1) == 0) | (image.max(axis=-1) == 255)
+    solids = layout_solids(scene.layout)
+    view = ground_view(camera, Response("srgb").decode(image), clipped, scene.layout.walkable_area(), solids)
+    return estimate_lighting(camera, view, solids)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("azimuth", "elevation", "sun_strength"), [
+    (215.0, 40.0, 4.0),  # the demo's own afternoon sun, behind the camera on its left
+    (100.0, 62.0, 3.0),  # high, from the right
+    (320.0, 16.0, 5.0),  # low, against the camera: long shadows
+])
+def test_a_rendered_sun_is_recovered(demo, azimuth: float, elevation: float, sun_strength: float) -> None:
+    truth = illumination_from_strengths(azimuth, elevation, sun_strength, 1.0)
+    estimate = _estimate(demo, truth)
+    found = estimate.illumination
+    assert estimate.sun_source == "cast shadows", estimate.reason
+    assert sun_angle_error_deg(found, truth) <= 10.0
+    assert found.sun_to_sky == pytest.approx(truth.sun_to_sky, rel=0.20)
+    # The absolute scale rests on the paving prior, which the procedural plaza follows (joints and kerbs aside).
+    assert luminance(found.sky_rgb) == pytest.approx(luminance(truth.sky_rgb), rel=0.15)
+
+
+@pytest.mark.slow
+def test_an_overcast_sky_has_no_sun(demo) -> None:
+    truth = replace(illumination_from_strengths(0.0, 45.0, 0.0, 2.5), sky_model="uniform")
+    estimate = _estimate(demo, truth)
+    assert not estimate.illumination.has_sun and estimate.sun_source == "none"
+    assert "overcast" in estimate.reason
+    assert estimate.illumination.sky_model == "cie_overcast"
+    assert luminance(estimate.illumination.sky_rgb) == pytest.approx(luminance(truth.sky_rgb), rel=0.15)
+
+
+def test_a_known_location_and_time_give_the_sun_in_the_scene_frame() -> None:
+    """Reading (UK) at the March 2009 equinox around solar noon: the sun stands due south, 38-39 degrees up.
+    With north along +y, south is azimuth 270 (towards -y)."""
+    azimuth, elevation = solar_position(51.44, -0.94, datetime(2009, 3, 20, 12, 11, tzinfo=UTC), 90.0)
+    assert azimuth == pytest.approx(270.0, abs=1.5)
+    assert elevation == pytest.approx(90.0 - 51.44, abs=1.5)
+    turned, _ = solar_position(51.44, -0.94, datetime(2009, 3, 20, 12, 11, tzinfo=UTC), 0.0)
+    assert (turned - azimuth) % 360.0 == pytest.approx(270.0, abs=1e-6)  # north along +x: everything turns by -90
+    with pytest.raises(ValueError, match="timezone"):
+        solar_position(51.44, -0.94, datetime(2009, 3, 20, 12, 11), 90.0)
+
+
+def test_the_overcast_sky_keeps_the_horizontal_irradiance() -> None:
+    """Cosine-weighted over the upper hemisphere, the CIE gradation averages 1 (same irradiance as the uniform
+    sky it replaces) and puts three times the horizon's radiance at the zenith."""
+    up = np.random.default_rng(0).random(1_000_000) ** 0.5  # cos(theta) of cosine-distributed directions
+    assert sky_gradation(up, "cie_overcast").mean() == pytest.approx(1.0, abs=2e-3)
+    assert sky_gradation(np.array([1.0]), "cie_overcast")[0] == pytest.approx(3 * sky_gradation(np.array([0.0]),
+                                                                                               "cie_overcast")[0])
+    np.testing.assert_array_equal(sky_gradation(up[:10], "uniform"), np.ones(10))
+
+
+def test_illumination_refuses_what_cannot_be_light() -> None:
+    with pytest.raises(ValueError, match="finite, non-negative"):
+        Illumination(sky_rgb=(1.0, float("nan"), 1.0))
+    with pytest.raises(ValueError, match="finite, non-negative"):
+        Illumination(sky_rgb=(1.0, 1.0, 1.0), sun_rgb=(-1.0, 0.0, 0.0))
+    with pytest.raises(ValueError, match="sky model"):
+        Illumination(sky_rgb=(1.0, 1.0, 1.0), sky_model="hosek")
+    below = illumination_from_strengths(0.0, -5.0, 3.0, 1.0)
+    assert not below.has_sun and below.sun_to_sky == 0.0
+
+
+def test_the_albedo_prior_tells_grass_from_paving() -> None:
+    pixels = np.array([[0.08, 0.26, 0.03], [0.34, 0.31, 0.27], [0.13, 0.14, 0.05], [0.0, 0.0, 0.0]])
+    prior = ground_albedo_prior(pixels)
+    np.testing.assert_allclose(prior[0], VEGETATION_ALBEDO)
+    np.testing.assert_allclose(prior[1], PAVED_ALBEDO)
+    np.testing.assert_allclose(prior[2], VEGETATION_ALBEDO)  # dry grass is still grass
+    np.testing.assert_allclose(prior[3], PAVED_ALBEDO)  # black has no colour to go by
+    assert np.isfinite(prior).all()
+
+
+@pytest.mark.slow
+def test_vc_scene_light_writes_the_comparison(tmp_path, capsys) -> None:
+    from vc.cli.scene import main
+
+    figure, summary = tmp_path / "light.png", tmp_path / "light.json"
+    assert main(["light", str(DEMO), "-o", str(figure), "--json", str(summary)]) == 0
+    result = json.loads(summary.read_text())
+    assert figure.stat().st_size > 10_000
+    assert result["estimate"]["sun_source"] == "cast shadows"
+    assert result["compared_with_scene_file"]["sun_direction_error_deg"] <= 10.0
+    assert all(abs(region["error"]) <= 0.10 for region in result["regions"])
+    out = capsys.readouterr().out
+    assert "renders use the scene file's" in out and "r0" in out
+
+
+@pytest.mark.slow
+@pytest.mark.pets
+def test_pets09_is_overcast(pets_data) -> None:
+    """S2.L1 was filmed under an overcast sky: no known solid casts a visible shadow."""
+    from vc.render.relight import estimate_scene_lighting
+    from vc.scenes.regions import plan_regions
+
+    scene = load_scene(REPO / "scenes" / "pets09_s2l1" / "scene.yaml")
+    solution = estimate_scene_lighting(scene, plan_regions(scene))
+    assert not solution.illumination.has_sun, solution.estimate.reason
+    assert solution.illumination.sky_model == "cie_overcast"
+    assert math.isfinite(luminance(solution.illumination.sky_rgb))
