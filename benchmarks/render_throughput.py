@@ -2,21 +2,31 @@
 
     python benchmarks/render_throughput.py [--scene scenes/pets09_s2l1/scene.yaml] [--spp 4 16 64]
                                            [--samples 40] [--warmup 5] [--out benchmarks/results]
+    python benchmarks/render_throughput.py --photometry [--scene ...] [--samples 40] [--out DIR]
 
 Each sample is what ``vc-render`` writes: people sampled and posed, rendered, composited, labelled, and the
 image and mask PNGs and the shard's annotations written by the dataset writer (to a temporary folder). One
 process, all cores (2 on the reference machine). Writes ``render_throughput.json``, ``render_throughput.md`` (table) and
 ``render_throughput.png`` (samples/s per region and spp; time per step at the reference spp) to ``--out``.
+
+``--photometry`` times each region at the reference spp twice in one run, in turn: with photometric matching off
+(the default sun of an explicit ``lighting:`` block, no camera effects) and matched (the scene's own plan). The
+throughput may fall by no more than what the matched plan's effects cost: the run writes both rates, the measured
+difference per sample, and the effects' own time per sample (the samples' ``effect.*`` timings and the plan's
+estimate) to ``render_throughput_photometry.json`` and ``.md``, with the machine's CPU model, since rates from
+different machines do not compare.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import platform
 import shutil
 import tempfile
 import time
 from collections import defaultdict
+from dataclasses import replace
 from pathlib import Path
 
 import matplotlib
@@ -30,8 +40,9 @@ from vc.render import dataset  # noqa: E402
 from vc.render.bodies import BodyModel  # noqa: E402
 from vc.render.plan import plan_render  # noqa: E402
 from vc.render.synthesis import RegionSynthesizer, SynthesisSettings  # noqa: E402
-from vc.scenes.loader import BUNDLED_SCENES, load_scene  # noqa: E402
+from vc.scenes.loader import BUNDLED_SCENES, Scene, load_scene  # noqa: E402
 from vc.scenes.regions import plan_regions  # noqa: E402
+from vc.scenes.schema import Lighting  # noqa: E402
 
 REFERENCE_SPP = 16
 
@@ -70,6 +81,57 @@ def measure(synthesizer: RegionSynthesizer, samples: int, warmup: int, scratch: 
     }
 
 
+def photometry_off(scene: Scene) -> Scene:
+    """``scene`` rendered as before photometric matching: the default sun and sky, geometric effects only."""
+    geometric = ["lens_distortion", "shadows"] if not scene.camera.distortion.is_identity else ["shadows"]
+    return replace(scene, lighting=Lighting(), effects=geometric, video_path=None)
+
+
+def cpu_model() -> str:
+    for line in Path("/proc/cpuinfo").read_text().splitlines() if Path("/proc/cpuinfo").is_file() else []:
+        if line.startswith("model name"):
+            return line.split(":", 1)[1].strip()
+    return platform.processor() or "unknown"
+
+
+def compare_photometry(scene: Scene, bodies: BodyModel, samples: int, warmup: int, scratch: Path) -> list[dict]:
+    """Per region, samples/s with photometric matching off and matched, measured in turn in this process."""
+    regions = plan_regions(scene)
+    plans = {"off": plan_render(photometry_off(scene), regions), "matched": plan_render(scene, regions)}
+    rows = []
+    for region in regions:
+        row = {"region": region.name, "input_size": list(region.input_size)}
+        for name, plan in plans.items():
+            synthesizer = RegionSynthesizer(plan_scene(scene, name), region, bodies,
+                                            SynthesisSettings(spp=REFERENCE_SPP), plan)
+            row[name] = measure(synthesizer, samples, warmup, scratch)
+        effects = {step: ms for step, ms in row["matched"]["ms_per_step"].items() if step.startswith("effect.")}
+        row["slowdown_ms_per_sample"] = round(row["matched"]["ms_per_sample"] - row["off"]["ms_per_sample"], 1)
+        row["effects_ms_per_sample"] = round(sum(effects.values()), 1)
+        row["planned_effects_ms_per_sample"] = round(sum(d.ms_per_sample or 0.0 for d in plans["matched"].effects), 1)
+        print(json.dumps(row))
+        rows.append(row)
+    return rows
+
+
+def plan_scene(scene: Scene, photometry: str) -> Scene:
+    return photometry_off(scene) if photometry == "off" else scene
+
+
+def _write_photometry(rows: list[dict], out: Path) -> None:
+    write_json(out / "render_throughput_photometry.json", {"cpu": cpu_model(), "spp": REFERENCE_SPP, "rows": rows})
+    lines = [f"Render throughput with photometric matching off and matched, {REFERENCE_SPP} spp, one run on "
+             f"{cpu_model()}",
+             "", "| region | input | off samples/s | matched samples/s | slower by ms/sample | effects ms/sample |",
+             "|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['region']} | {r['input_size'][0]}x{r['input_size'][1]} | "
+                     f"{r['off']['samples_per_second']} | {r['matched']['samples_per_second']} | "
+                     f"{r['slowdown_ms_per_sample']} | {r['effects_ms_per_sample']} |")
+    (out / "render_throughput_photometry.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
 def _plot(results: list[dict], path: Path) -> None:
     figure, (left, right) = plt.subplots(1, 2, figsize=(12, 4.5))
     for region in dict.fromkeys(r["region"] for r in results):
@@ -100,15 +162,23 @@ def main() -> None:
     parser.add_argument("--samples", type=int, default=40)
     parser.add_argument("--warmup", type=int, default=5)
     parser.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
+    parser.add_argument("--photometry", action="store_true",
+                        help="compare photometric matching off and matched at the reference spp instead")
     args = parser.parse_args()
 
     scene = load_scene(args.scene)
-    plan = plan_render(scene, plan_regions(scene))
     start = time.perf_counter()
     bodies = BodyModel()
     print(f"body model built in {time.perf_counter() - start:.1f} s")
-    results = []
     scratch = tempfile.mkdtemp(prefix="vc-render-bench-")
+    args.out.mkdir(parents=True, exist_ok=True)
+    if args.photometry:
+        rows = compare_photometry(scene, bodies, args.samples, args.warmup, Path(scratch))
+        shutil.rmtree(scratch)
+        _write_photometry(rows, args.out)
+        return
+    plan = plan_render(scene, plan_regions(scene))
+    results = []
     for region in plan_regions(scene):
         for spp in args.spp:
             settings = SynthesisSettings(spp=spp)
@@ -119,7 +189,6 @@ def main() -> None:
             results.append(row)
 
     shutil.rmtree(scratch)
-    args.out.mkdir(parents=True, exist_ok=True)
     write_json(args.out / "render_throughput.json", {"effects": [e.to_dict() for e in plan.effects],
                                                      "lighting": plan.lighting.to_dict(), "results": results})
     lines = ["| region | input | spp | samples/s | ms/sample | people/sample | median person px | "

@@ -19,6 +19,14 @@ import numpy as np
 ENCODE_STEPS = 65535
 
 
+def _without_nan(values: np.ndarray, action: str, dtype: type = np.float64) -> np.ndarray:
+    """``values`` as ``dtype``; NaN (a value that is no light at all) is an error, +-inf clips like any overflow."""
+    array = np.asarray(values, dtype)
+    if np.isnan(array).any():
+        raise ValueError(f"{int(np.isnan(array).sum())} of {array.size} values are NaN and cannot be {action}")
+    return array
+
+
 @dataclass(frozen=True)
 class Response:
     """A camera response named as in the scene schema."""
@@ -52,19 +60,22 @@ class Response:
         return np.round(self._curve_encode(np.arange(ENCODE_STEPS + 1) / ENCODE_STEPS) * 255.0).astype(np.uint8)
 
     def decode(self, image: np.ndarray) -> np.ndarray:
-        """uint8 (or [0, 1] float) image -> linear float32."""
+        """uint8 (or [0, 1] float) image -> linear float32. Values outside [0, 1] stay finite (the curves are
+        extended, a power law clipped at 0); NaN is refused rather than passed on."""
         if image.dtype == np.uint8:
             return self._decode_table[image]
-        return self._curve_decode(np.asarray(image, np.float64)).astype(np.float32)
+        values = _without_nan(image, "decoded")
+        return self._curve_decode(values).astype(np.float32)
 
     def encode_exact(self, linear: np.ndarray) -> np.ndarray:
         """Linear image -> uint8 through the curve itself (no table): for one-off images such as a rendered
         background, where exactness is worth more than the 5x speed of :meth:`encode`."""
-        values = np.clip(np.asarray(linear, np.float64), 0.0, 1.0)
+        values = np.clip(_without_nan(linear, "encoded"), 0.0, 1.0)
         return np.round(self._curve_encode(values) * 255.0).astype(np.uint8)
 
     def encode(self, linear: np.ndarray) -> np.ndarray:
         """Linear image -> uint8, clipped to the sensor's range as a camera does (through a table: within one
         8-bit level of :meth:`encode_exact`)."""
-        steps = np.clip(np.asarray(linear, np.float32), 0.0, 1.0) * np.float32(ENCODE_STEPS) + np.float32(0.5)
+        steps = np.clip(_without_nan(linear, "encoded", np.float32), 0.0, 1.0) * np.float32(ENCODE_STEPS) \
+            + np.float32(0.5)
         return self._encode_table[steps.astype(np.int32)]

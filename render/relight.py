@@ -35,7 +35,7 @@ from vc.calibration.lighting import (
     illumination_from_strengths,
     solar_position,
 )
-from vc.calibration.materials import ground_albedo_prior, luminance
+from vc.calibration.materials import ground_albedo_prior, is_vegetation, luminance
 from vc.calibration.response import Response
 from vc.errors import InputError
 from vc.io import read_image
@@ -52,6 +52,8 @@ from vc.scenes.schema import Lighting, SolarLighting
 RELIGHT_SPP = 8
 #: Grey albedo of the re-render's ground; its shading is divided back out (mid-grey keeps interreflection real).
 SHADING_ALBEDO = 0.5
+#: White balance is fitted on the paved ground when at least this share of the known ground is paved.
+MIN_PAVED_SHARE = 0.05
 #: Segments of a cylinder's rings when its outline is cast as a shadow or projected.
 CYLINDER_SEGMENTS = 16
 
@@ -113,14 +115,25 @@ class LightingFit:
 
     rendered: np.ndarray  # (H, W, 3) linear re-render, the known ground given its prior albedo
     known_ground: np.ndarray  # (H, W) bool
+    vegetation: np.ndarray  # (H, W) bool: which of the background's pixels are vegetation
     background_luminance: np.ndarray  # (H, W) linear luminance of the background
     regions: list[RegionFit]
     gain: np.ndarray  # (3,) the exposure / white-balance gain that was applied to the estimate
 
-    def log_error(self) -> np.ndarray:
-        """log2 of re-render over background luminance on known ground, NaN elsewhere (H, W)."""
+    def log_error(self, window_px: int = 9) -> np.ndarray:
+        """log2 of re-render over background luminance on known ground, each averaged over the known ground of a
+        ``window_px`` square (the ground's texture and the re-render's sampling noise are not what is compared),
+        NaN elsewhere (H, W)."""
+        known = self.known_ground.astype(np.float32)
+        kernel = (window_px, window_px)
+
+        def local_mean(values: np.ndarray) -> np.ndarray:
+            total = cv2.boxFilter(np.where(self.known_ground, values, 0.0).astype(np.float32), -1, kernel,
+                                  normalize=False)
+            return total / np.maximum(cv2.boxFilter(known, -1, kernel, normalize=False), 1e-6)
+
         with np.errstate(divide="ignore", invalid="ignore"):
-            error = np.log2(luminance(self.rendered) / self.background_luminance)
+            error = np.log2(local_mean(luminance(self.rendered)) / local_mean(self.background_luminance))
         return np.where(self.known_ground & np.isfinite(error), error, np.nan)
 
     @property
@@ -161,7 +174,9 @@ def background_view(scene: Scene, solids: list[np.ndarray]) -> GroundView:
     """The scene's background decoded with its response, and its known ground."""
     image = read_image(scene.image_path)
     response = Response(scene.response)
-    clipped = (image.min(axis=-1) == 0) | (image.max(axis=-1) == 255)
+    # Saturated highlights carry no level; a single channel at 0 is a saturated colour (a lawn's blue), not a
+    # clipped pixel, and its luminance is still good.
+    clipped = (image.max(axis=-1) == 255) | (image.max(axis=-1) == 0)
     return ground_view(scene.camera, response.decode(image), clipped, scene.layout.walkable_area(), solids)
 
 
@@ -184,6 +199,21 @@ def shading_render(scene: Scene, illumination: Illumination, spp: int = RELIGHT_
     return view.warp(render_linear(mitsuba().load_dict(scene_dict), spp, seed))
 
 
+def exposure_gain(background: np.ndarray, rendered: np.ndarray) -> np.ndarray:
+    """The per-channel gain (N, 3 known-ground pixels) that brings the re-render to the background: its luminance
+    is the median luminance ratio over all known ground (exposure); its colour the median channel ratios over the
+    paved ground alone (white balance: grey-world on paving, whose prior is nearly neutral; a lawn's colour varies
+    too much with the season and the light to balance a camera on), over all known ground where little is paved."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        exposure = np.median(luminance(background) / np.maximum(luminance(rendered), 1e-9))
+        paved = ~is_vegetation(background)
+        neutral = paved if paved.sum() >= MIN_PAVED_SHARE * len(background) else np.ones(len(background), bool)
+        colour_ratios = background[neutral] / np.maximum(rendered[neutral], 1e-9)
+    colour_gain = np.median(colour_ratios, axis=0) if len(colour_ratios) else np.ones(3)
+    colour_gain = colour_gain / max(float(luminance(colour_gain)), 1e-9)
+    return exposure * colour_gain if np.isfinite(exposure) and exposure > 0 else np.ones(3)
+
+
 def fit_to_background(scene: Scene, illumination: Illumination, view: GroundView, regions: list[Region],
                       refine_gain: bool, spp: int = RELIGHT_SPP) -> tuple[Illumination, LightingFit]:
     """Re-render the empty scene under ``illumination``; with ``refine_gain`` fit the per-channel gain that
@@ -193,13 +223,7 @@ def fit_to_background(scene: Scene, illumination: Illumination, view: GroundView
     rendered = shading.astype(np.float64)
     prior = ground_albedo_prior(view.linear[known])
     rendered[known] = shading[known] / SHADING_ALBEDO * prior
-    gain = np.ones(3)
-    if refine_gain and known.any():
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ratios = view.linear[known] / rendered[known]
-        usable = np.isfinite(ratios).all(axis=-1) & (rendered[known] > 0).all(axis=-1)
-        if usable.any():
-            gain = np.median(ratios[usable], axis=0)
+    gain = exposure_gain(view.linear[known], rendered[known]) if refine_gain and known.any() else np.ones(3)
     rendered *= gain
     background_luminance, rendered_luminance = view.luminance, luminance(rendered)
     fits = []
@@ -209,7 +233,8 @@ def fit_to_background(scene: Scene, illumination: Illumination, view: GroundView
         fits.append(RegionFit(region.name, count,
                               float(np.median(background_luminance[pixels])) if count else 0.0,
                               float(np.median(rendered_luminance[pixels])) if count else 0.0))
-    return illumination.scaled(gain), LightingFit(rendered.astype(np.float32), known, view.luminance, fits, gain)
+    return illumination.scaled(gain), LightingFit(rendered.astype(np.float32), known, is_vegetation(view.linear),
+                                                  view.luminance, fits, gain)
 
 
 def estimate_scene_lighting(scene: Scene, regions: list[Region], spp: int = RELIGHT_SPP) -> LightingSolution:

@@ -291,3 +291,13 @@ def test_the_effects_ablation_reports_what_each_variant_costs(tmp_path):
     assert table[2] == ("| off | default sun, no camera effects | 0.870 | 0.960 | 0.680 | 72 | shadows | 54.0 |")
     assert "sensor_noise (5.9)" in table[3] and "| — |" in table[3]
     assert json.loads((tmp_path / "effects_ablation.json").read_text())[1]["value"] == "matched"
+
+
+def test_the_throughput_comparison_turns_photometric_matching_off_as_the_sweep_does():
+    from vc.scenes.schema import Lighting
+
+    throughput = load_benchmark("render_throughput")
+    scene = load_scene(REPO / "scenes/demo/scene.yaml")
+    off = throughput.photometry_off(scene)
+    assert off.lighting == Lighting() and off.effects == ["lens_distortion", "shadows"] and off.video_path is None
+    assert off.effects == _sweep(REPO / "unused").photometry_overrides("off")["effects"]

@@ -196,3 +196,26 @@ def test_planned_effects_record_their_parameters(tmp_path) -> None:
     for decision in decisions:
         assert isinstance(decision.to_dict()["parameters"], dict)
         assert replace(decision, ms_per_sample=1.0).to_dict()["ms_per_sample"] == 1.0
+
+
+def _fit_with_falloff(darkening: float, vegetation_offset: float = 0.0):
+    from vc.render.relight import LightingFit
+
+    height, width = 120, 160
+    ys, xs = np.indices((height, width))
+    radius2 = ((xs - 79.5) ** 2 + (ys - 59.5) ** 2) / (np.hypot(width, height) / 2) ** 2
+    vegetation = xs < 40  # a strip of lawn down the left side, darker than its prior
+    background = 0.3 * (1.0 - darkening) ** radius2 * np.where(vegetation, np.exp(vegetation_offset), 1.0)
+    rendered = np.full((height, width, 3), 0.3, np.float32)
+    return LightingFit(rendered, np.ones((height, width), bool), vegetation, background.astype(np.float32), [],
+                       np.ones(3))
+
+
+def test_vignetting_is_the_radial_fall_off_the_ground_kinds_do_not_explain(region_context) -> None:
+    scene, _ = region_context
+    camera = scene.camera.resized(160, 120)
+    darkening, explained = registry.fit_vignetting(camera, _fit_with_falloff(0.3), stride=1)
+    assert darkening == pytest.approx(0.3, abs=0.03) and explained > 0.9
+    # a lawn darker than its prior is an offset of its kind, not a lens
+    darkening, explained = registry.fit_vignetting(camera, _fit_with_falloff(0.0, vegetation_offset=-0.5), stride=1)
+    assert abs(darkening) < 0.03 and explained < registry.MIN_VIGNETTING_EXPLAINED

@@ -35,3 +35,23 @@ def test_the_table_stays_within_one_level_of_the_exact_curve() -> None:
     for name in ("srgb", "gamma 2.2", "linear"):
         response = Response(name)
         assert np.abs(response.encode(linear).astype(int) - response.encode_exact(linear)).max() <= 1
+
+
+@pytest.mark.parametrize("name", ["srgb", "linear", "gamma 2.2"])
+def test_values_outside_the_range_stay_finite_and_nan_is_refused(name: str) -> None:
+    response = Response(name)
+    values = np.array([0.0, 1.0, 1.7, -0.3, np.inf, -np.inf])
+    np.testing.assert_array_equal(response.encode(values), [0, 255, 255, 0, 255, 0])
+    np.testing.assert_array_equal(response.encode_exact(values), [0, 255, 255, 0, 255, 0])
+    decoded = response.decode(values[:4])
+    assert np.isfinite(decoded).all() and decoded[0] == 0.0 and decoded[1] == pytest.approx(1.0)
+    for action in (response.encode, response.encode_exact, response.decode):
+        with pytest.raises(ValueError, match="NaN"):
+            action(np.array([0.5, np.nan]))
+
+
+@pytest.mark.parametrize("name", ["srgb", "gamma 2.2"])
+def test_float_round_trips_stay_within_one_8_bit_step(name: str) -> None:
+    response = Response(name)
+    encoded = np.linspace(0.0, 1.0, 4097)
+    np.testing.assert_allclose(response.encode_exact(response.decode(encoded)) / 255.0, encoded, atol=1 / 255)
