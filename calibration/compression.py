@@ -124,3 +124,22 @@ def estimate_jpeg(image: np.ndarray) -> JpegEstimate:
                                          - original[..., 1:]) ** 2)) for subsampled in (True, False)}
     evidence |= {"chroma_mse_420": round(chroma[True], 5), "chroma_mse_444": round(chroma[False], 5)}
     return JpegEstimate(quality, chroma[True] < chroma[False], evidence)
+
+
+#: Qualities :func:`equivalent_quality` tries, coarsest first.
+EQUIVALENT_QUALITIES = tuple(range(5, 100, 5))
+
+
+def equivalent_quality(clean: np.ndarray, target_blockiness: float, chroma_subsampling: bool = True) -> int | None:
+    """The JPEG quality at which ``clean`` (RGB uint8, not yet compressed) shows ``target_blockiness``: the finest
+    of :data:`EQUIVALENT_QUALITIES` that blocks it at least that much. For frames of a video codec, whose
+    motion-compensated quantiser is not idempotent the way JPEG's is (no ghost), this matches the visible blocking
+    instead of the quantiser. None when even the finest quality tried blocks it more than the target."""
+    clean = _rgb(clean)
+    found = None
+    for quality in EQUIVALENT_QUALITIES:
+        if blockiness(jpeg_round_trip(clean, quality, chroma_subsampling)) >= target_blockiness:
+            found = quality
+        else:
+            break
+    return found

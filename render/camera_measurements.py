@@ -13,8 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vc.calibration.compression import JpegEstimate, estimate_jpeg
-from vc.calibration.noise import NoiseEstimate, estimate_noise_image, estimate_noise_video
+from vc.calibration.compression import JpegEstimate, blockiness, equivalent_quality, estimate_jpeg
+from vc.calibration.noise import NoiseEstimate, NoiseModel, estimate_noise_image, estimate_noise_video
 from vc.calibration.response import Response
 from vc.calibration.sharpness import BlurEstimate, estimate_blur_sigma
 from vc.frames import FrameRange, FrameSource
@@ -24,6 +24,9 @@ from vc.scenes.loader import Scene
 #: Frames of the scene's video that are measured, spread evenly over its first :data:`VIDEO_SPAN` frames.
 VIDEO_FRAMES = 24
 VIDEO_SPAN = 240
+#: A video's frames count as visibly block-compressed when their blockiness (8-pixel block boundaries over block
+#: interiors, ~1.0 without compression) exceeds the background's, with the frames' noise added, by this much.
+MIN_BLOCKINESS_EXCESS = 0.05
 
 
 @dataclass(frozen=True)
@@ -44,7 +47,8 @@ class CameraMeasurements:
 
 
 def _jpeg_dict(estimate: JpegEstimate) -> dict:
-    return {"quality": estimate.quality, "chroma_subsampling": estimate.chroma_subsampling}
+    return {"quality": estimate.quality, "chroma_subsampling": estimate.chroma_subsampling,
+            "evidence": estimate.evidence}
 
 
 def _video_frames(scene: Scene) -> list[np.ndarray]:
@@ -72,13 +76,29 @@ def measure_camera(scene: Scene) -> CameraMeasurements:
                                   background_noise, background_compression, background_compression, blur)
     frames = _video_frames(scene)
     noise = estimate_noise_video(frames, background, response)
-    qualities = [estimate_jpeg(frame) for frame in frames[:: max(1, len(frames) // 6)]]
-    found = [estimate.quality for estimate in qualities if estimate.quality is not None]
-    if len(found) * 2 > len(qualities):
-        quality = int(np.median(found))
-        subsampled = sum(estimate.chroma_subsampling for estimate in qualities) * 2 > len(qualities)
-        compression = JpegEstimate(quality, subsampled, {"frames": len(qualities), "qualities": found})
-    else:
-        compression = JpegEstimate(None, False, {"frames": len(qualities), "qualities": found})
     return CameraMeasurements(f"{len(frames)} frames of {scene.video_path.name}", noise, background_noise,
-                              compression, background_compression, blur)
+                              video_compression(frames, background, noise.model, response), background_compression,
+                              blur)
+
+
+def video_compression(frames: list[np.ndarray], background: np.ndarray, noise: NoiseModel, response: Response
+                      ) -> JpegEstimate:
+    """The frames' compression: the JPEG quality most of them are a fixed point of (a motion-JPEG camera), else
+    the JPEG quality that blocks the background, with the frames' ``noise`` added as the sensor adds it, as
+    visibly as the frames are blocked (a video codec: 4:2:0, as they code chroma; noise dilutes blocking, so it is
+    matched with the noise in), else none."""
+    sampled = frames[:: max(1, len(frames) // 6)]
+    ghosts = [estimate_jpeg(frame) for frame in sampled]
+    found = [estimate.quality for estimate in ghosts if estimate.quality is not None]
+    frame_blocking = float(np.median([blockiness(frame) for frame in sampled]))
+    evidence = {"frames": len(sampled), "ghost_qualities": found, "frame_blockiness": round(frame_blocking, 4),
+                "background_blockiness": round(blockiness(background), 4)}
+    if len(found) * 2 > len(ghosts):
+        subsampled = sum(estimate.chroma_subsampling for estimate in ghosts) * 2 > len(ghosts)
+        return JpegEstimate(int(np.median(found)), subsampled, evidence | {"method": "JPEG ghost"})
+    noisy = response.encode(noise.apply(response.decode(background), np.random.default_rng(0)))
+    evidence["noisy_background_blockiness"] = round(blockiness(noisy), 4)
+    if frame_blocking - evidence["noisy_background_blockiness"] < MIN_BLOCKINESS_EXCESS:
+        return JpegEstimate(None, False, evidence | {"method": "blockiness: no visible blocking"})
+    quality = equivalent_quality(noisy, frame_blocking)
+    return JpegEstimate(quality, quality is not None, evidence | {"method": "blockiness matched on the background"})

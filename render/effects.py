@@ -405,7 +405,10 @@ class Compression(Effect):
         measured = evidence.camera
         compression = measured.compression
         if compression.quality is None:
-            return False, f"no block compression found in {measured.frames_source}", {}
+            blocking = compression.evidence.get("frame_blockiness")
+            seen = "" if blocking is None else (f" (blockiness {blocking:.3f}, the background with the frames' noise "
+                                                f"{compression.evidence['noisy_background_blockiness']:.3f})")
+            return False, f"no block compression found in {measured.frames_source}{seen}", {}
         parameters = {"quality": int(compression.quality), "chroma_subsampling": bool(compression.chroma_subsampling),
                       "measured_on": measured.frames_source}
         return True, (f"{measured.frames_source} show block compression at quality about {compression.quality}"

@@ -69,3 +69,34 @@ def test_inputs_other_than_rgb_uint8_are_refused() -> None:
         estimate_jpeg(np.zeros((32, 32, 3), np.float32))
     with pytest.raises(ValueError, match="RGB uint8"):
         jpeg_round_trip(np.zeros((32, 32), np.uint8), 50, False)
+
+
+@pytest.mark.parametrize("quality", [25, 60])
+def test_the_equivalent_quality_matches_the_visible_blocking(background: np.ndarray, quality: int) -> None:
+    from vc.calibration.compression import equivalent_quality
+
+    blocked = blockiness(jpeg_round_trip(background, quality, True))
+    assert equivalent_quality(background, blocked) == quality
+    assert equivalent_quality(background, 1.0) is None or equivalent_quality(background, 1.0) >= 95
+
+
+def test_video_frames_without_a_ghost_are_matched_by_their_blocking(background: np.ndarray) -> None:
+    """A video codec's frames are no JPEG fixed point (here: noisy frames blocked at quality 40, then a little more
+    noise on top, as the next frame's residual adds): the compression is matched by its visible blocking, on the
+    background with the frames' noise in."""
+    from vc.calibration.noise import NoiseModel
+    from vc.calibration.response import Response
+    from vc.render.camera_measurements import video_compression
+
+    rng, response = np.random.default_rng(0), Response("srgb")
+    crop = background[:256, :384]
+    noise = NoiseModel(shot=2e-4, read=0.0)
+
+    def frame() -> np.ndarray:
+        blocked = jpeg_round_trip(response.encode(noise.apply(response.decode(crop), rng)), 40, True)
+        return np.clip(blocked + rng.normal(0, 1.2, blocked.shape), 0, 255).astype(np.uint8)
+
+    estimate = video_compression([frame() for _ in range(6)], crop, noise, response)
+    assert estimate.evidence["method"] == "blockiness matched on the background"
+    assert estimate.chroma_subsampling and 25 <= estimate.quality <= 55
+    assert video_compression([crop] * 6, crop, NoiseModel(0.0, 0.0), response).quality is None
