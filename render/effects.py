@@ -478,7 +478,8 @@ def build_effects(decisions: Sequence[EffectDecision], scene: Scene, region: Reg
 
 
 def _probe_layers(region: Region, background: np.ndarray) -> SampleLayers:
-    """A sample-sized stand-in for timing: one person-sized block of coverage in the middle of the input."""
+    """A sample-sized stand-in for timing: one person-sized block of coverage in the middle of the input, walking
+    at the middle of the region's ground."""
     width, height = region.input_size
     coverage = np.zeros((height, width, 1), np.float32)
     person_h = int(min(height, max(region.person_px) * region.scale[1]))
@@ -486,8 +487,9 @@ def _probe_layers(region: Region, background: np.ndarray) -> SampleLayers:
     top, left = (height - person_h) // 2, (width - person_w) // 2
     coverage[top:top + person_h, left:left + person_w] = 1.0
     beauty = coverage * background * 0.5
-    return SampleLayers(beauty=beauty, coverage=coverage, shadow=np.ones_like(background),
-                        people=[MovingPerson(np.zeros(3), np.array([WALKING_SPEED_MPS, 0.0, 0.0]))])
+    centre = region.ground.centroid
+    walker = MovingPerson(np.array([centre.x, centre.y, 0.9]), np.array([WALKING_SPEED_MPS, 0.0, 0.0]))
+    return SampleLayers(beauty=beauty, coverage=coverage, shadow=np.ones_like(background), people=[walker])
 
 
 def time_effect(effect: Effect, background: np.ndarray, repeats: int = COST_REPEATS) -> float:

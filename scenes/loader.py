@@ -57,7 +57,7 @@ def _field(location: tuple) -> str:
 def _pydantic_error(path: Path, error: ValidationError) -> InputError:
     """The first (most specific) validation error as one line; pydantic's tagged-union tags are dropped."""
     first = error.errors(include_url=False)[0]
-    location = tuple(part for part in first["loc"] if part not in ("box", "cylinder"))
+    location = tuple(part for part in first["loc"] if part not in ("box", "cylinder", "auto", "explicit", "solar"))
     message = first["msg"].removeprefix("Value error, ")
     if first["type"] == "missing":
         message = "missing required field"

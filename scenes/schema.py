@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Annotated, Literal
 
 import numpy as np
-from pydantic import AfterValidator, AwareDatetime, Field, field_validator, model_validator
+from pydantic import AfterValidator, AwareDatetime, Discriminator, Field, Tag, field_validator, model_validator
 
 from vc.calibration.readers import READERS, UNIT_SCALE
 from vc.scenes.layout import Layout, StrictModel, Vec2, validate_ground_polygon
@@ -150,6 +150,20 @@ class SolarLighting(StrictModel):
         return value
 
 
+def _lighting_kind(value) -> str:
+    """Which form a ``lighting:`` entry takes, so that a mistake is reported against that form alone."""
+    if isinstance(value, str):
+        return "auto"
+    if isinstance(value, dict) and {"location", "time", "north_deg"} & value.keys() or isinstance(value, SolarLighting):
+        return "solar"
+    return "explicit"
+
+
+#: ``lighting:``: ``auto`` (estimated from the background), explicit sun and sky, or where and when (solar).
+LightingSpec = Annotated[Annotated[Literal["auto"], Tag("auto")] | Annotated[Lighting, Tag("explicit")]
+                         | Annotated[SolarLighting, Tag("solar")], Discriminator(_lighting_kind)]
+
+
 class NamedPolygon(StrictModel):
     name: str = Field(pattern=r"^[A-Za-z0-9_-]+$")
     polygon: list[Vec2]
@@ -200,7 +214,7 @@ class SceneFile(StrictModel):
     calibration: CalibrationRef | None = None
     layout: Layout
     priors: Priors = Priors()
-    lighting: Literal["auto"] | Lighting | SolarLighting = "auto"
+    lighting: LightingSpec = "auto"
     effects: Literal["auto"] | list[Literal[EFFECT_NAMES]] = "auto"  # type: ignore[valid-type]
     regions: RegionPlanSpec = RegionPlanSpec()
 

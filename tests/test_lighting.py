@@ -116,3 +116,28 @@ def test_pets09_is_overcast(pets_data) -> None:
     assert not solution.illumination.has_sun, solution.estimate.reason
     assert solution.illumination.sky_model == "cie_overcast"
     assert math.isfinite(luminance(solution.illumination.sky_rgb))
+
+
+@pytest.mark.slow
+def test_a_scene_that_says_where_and_when_takes_the_sun_from_them(tmp_path) -> None:
+    """The demo background (sun at azimuth 215, elevation 40) with a location and time that put the sun at
+    azimuth 215, elevation 38.6: the direction is the solar position's, its strength is measured on the shadows."""
+    import yaml
+
+    from vc.render.relight import estimate_scene_lighting
+    from vc.scenes.regions import plan_regions
+
+    document = yaml.safe_load(DEMO.read_text())
+    document["image"] = str(DEMO.parent / document["image"])
+    # Reading at the March 2009 equinox around solar noon: due south, 38.6 deg up; south at 215 puts north at 35.
+    document["lighting"] = {"location": [51.44, -0.94], "time": "2009-03-20T12:11:00+00:00", "north_deg": 35.0}
+    path = tmp_path / "scene.yaml"
+    path.write_text(yaml.safe_dump(document))
+    scene = load_scene(path)
+    solution = estimate_scene_lighting(scene, plan_regions(scene))
+    light = solution.illumination
+    assert solution.estimate.sun_source == "location and time", solution.estimate.reason
+    assert light.sun_azimuth_deg == pytest.approx(215.0, abs=1.5)
+    assert light.sun_elevation_deg == pytest.approx(38.6, abs=1.5)
+    truth = illumination_from_strengths(215.0, 40.0, 4.0, 1.0)
+    assert light.sun_to_sky == pytest.approx(truth.sun_to_sky, rel=0.2)

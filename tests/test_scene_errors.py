@@ -58,6 +58,14 @@ CASES = {
     "height prior reversed": (modified(lambda s: s.update(priors={"height_m": [1.9, 1.5]})), "priors.height_m"),
     "unknown region mode": (modified(_set("regions", "many")), "regions"),
     "wall of zero length": (modified(_set("layout.walls.0.end", [-8.0, 16.0])), "layout.walls.0"),
+    "missing video": (modified(_set("video", "nowhere.avi")), "video: not found"),
+    "negative exposure": (modified(_set("camera.exposure_s", -0.01)), "camera.exposure_s"),
+    "time of day without a timezone": (
+        modified(_set("lighting", {"location": [51.4, -0.9], "time": "2009-03-20T10:30:00", "north_deg": 90.0})),
+        "lighting"),
+    "location off the earth": (
+        modified(_set("lighting", {"location": [95.0, 0.0], "time": "2009-03-20T10:30:00+00:00", "north_deg": 0.0})),
+        "location must be [latitude, longitude]"),
 }
 
 
