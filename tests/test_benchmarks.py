@@ -301,3 +301,16 @@ def test_the_throughput_comparison_turns_photometric_matching_off_as_the_sweep_d
     off = throughput.photometry_off(scene)
     assert off.lighting == Lighting() and off.effects == ["lens_distortion", "shadows"] and off.video_path is None
     assert off.effects == _sweep(REPO / "unused").photometry_overrides("off")["effects"]
+
+
+def test_the_appearance_gap_measures_people_against_the_ground_behind_them():
+    gap = load_benchmark("appearance_gap")
+    background = np.full((100, 100, 3), 0.4, np.float32)
+    image = background.copy()
+    image[20:80, 40:60] = [0.05, 0.05, 0.10]  # a dark, bluish person in a 60 px box
+    rows = gap.measure_people(image, background, np.array([[40, 20, 20, 60], [90, 90, 20, 60], [10, 10, 5, 12]]))
+    assert rows.shape == (1, 3)  # the box leaving the image and the one under 20 px are skipped
+    level, contrast, saturation = rows[0]
+    assert level == pytest.approx(0.2126 * 0.05 + 0.7152 * 0.05 + 0.0722 * 0.10, rel=1e-3)
+    assert contrast == pytest.approx(np.log2(level / 0.4), rel=1e-3)
+    assert saturation == pytest.approx(0.5, rel=1e-3)
