@@ -428,6 +428,65 @@ def lit_ground(camera: Camera, view: GroundView, solids: Sequence[np.ndarray], t
     return view.ground & ~shadows
 
 
+@dataclass(frozen=True)
+class SunFinding:
+    """What the background says about the sun: its direction and lit/shadow ratio per channel (both None for no
+    sun), where it came from ("location and time", "cast shadows" or "none"), why, and the shadow measurements."""
+
+    direction: tuple[float, float] | None
+    ratio_rgb: np.ndarray | None
+    source: str
+    reason: str
+    shadow: dict | None = None
+
+
+def _no_sun(reason: str, shadow: dict | None = None) -> SunFinding:
+    return SunFinding(None, None, "none", reason, shadow)
+
+
+def sun_from_position(camera: Camera, view: GroundView, solids: Sequence[np.ndarray], azimuth: float,
+                      elevation: float) -> SunFinding:
+    """The sun where the scene's location and time put it, if its shadows show it is out (step 2, given)."""
+    if elevation <= 0:
+        return _no_sun(f"the sun is below the horizon at the scene's location and time ({elevation:.1f} deg)")
+    towards = sun_direction(azimuth, elevation)
+    measures = measure_shadows(camera, view, solids, towards)
+    if not measures:
+        return _no_sun("the sun is up at the scene's location and time, but no known solid's shadow falls on "
+                       "visible ground, so its strength cannot be measured: the sky alone lights the scene")
+    contrast = math.exp(mean_log_contrast(measures))
+    shadow = {"contrast": round(contrast, 4), "solids": len(measures),
+              "shadow_pixels": sum(m.shadow_pixels for m in measures)}
+    if contrast < MIN_SUN_CONTRAST:
+        return _no_sun(f"the sun's predicted shadows are only {contrast:.2f}x darker than the ground around them "
+                       f"(< {MIN_SUN_CONTRAST}): overcast", shadow)
+    return SunFinding((azimuth, elevation), shadow_ratio_rgb(camera, view, solids, towards), "location and time",
+                      f"sun from the location and time; its shadows are {contrast:.2f}x darker than the ground",
+                      shadow)
+
+
+def sun_from_shadows(camera: Camera, view: GroundView, solids: Sequence[np.ndarray]) -> SunFinding:
+    """The sun searched for in the known solids' shadows (step 2, searched)."""
+    search = search_sun(camera, view, solids)
+    if search is None:
+        return _no_sun("no known solid casts a shadow on visible ground for any sun direction: no sun can be "
+                       "measured")
+    shadow = {"contrast": round(search.contrast, 4), "prominence": round(search.prominence, 4),
+              "azimuth_deg": search.azimuth_deg, "elevation_deg": search.elevation_deg,
+              "candidates": search.candidates, "solids": len(search.measures),
+              "shadow_pixels": sum(m.shadow_pixels for m in search.measures)}
+    if search.contrast < MIN_SUN_CONTRAST or search.prominence < MIN_SUN_PROMINENCE:
+        return _no_sun(f"no direct sun: the darkest predicted shadows are {search.contrast:.2f}x darker than the "
+                       f"ground around them (a sun needs >= {MIN_SUN_CONTRAST}x and "
+                       f"{math.exp(MIN_SUN_PROMINENCE):.2f}x over a typical direction, found "
+                       f"{math.exp(search.prominence):.2f}x): overcast", shadow)
+    direction = (search.azimuth_deg, search.elevation_deg)
+    return SunFinding(direction, shadow_ratio_rgb(camera, view, solids, sun_direction(*direction)), "cast shadows",
+                      f"the known solids' shadows are {search.contrast:.2f}x darker than the ground around them for "
+                      f"the sun at azimuth {search.azimuth_deg:.0f} deg, elevation {search.elevation_deg:.0f} deg",
+                      shadow)
+
+
 def estimate_lighting(camera: Camera, view: GroundView, solids: Sequence[np.ndarray],
                       known_sun: tuple[float, float] | None = None) -> LightingEstimate:
     """Sun and sky from the background (see the module docstring); ``known_sun`` is (azimuth, elevation) from
@@ -435,68 +494,20 @@ def estimate_lighting(camera: Camera, view: GroundView, solids: Sequence[np.ndar
     ground_count = int(view.ground.sum())
     if ground_count == 0:
         raise ValueError("no known ground in view: the walkable area is not visible in the background")
-    vegetation_share = float(is_vegetation(view.linear[view.ground]).mean())
-    if known_sun is not None and known_sun[1] <= 0:
-        sun_source, reason, direction, ratio_rgb, shadow = "none", (
-            f"the sun is below the horizon at the scene's location and time ({known_sun[1]:.1f} deg)"), None, None, None
-    elif known_sun is not None:
-        measures = measure_shadows(camera, view, solids, sun_direction(*known_sun))
-        direction = known_sun
-        if not measures:
-            sun_source, reason, ratio_rgb, shadow = "location and time", (
-                "sun from the location and time; no known solid's shadow falls on visible ground, so its strength "
-                "cannot be measured and the sky alone lights the scene"), None, None
-            direction = None
-        else:
-            contrast = math.exp(mean_log_contrast(measures))
-            ratio_rgb = shadow_ratio_rgb(camera, view, solids, sun_direction(*known_sun))
-            shadow = {"contrast": round(contrast, 4), "solids": len(measures),
-                      "shadow_pixels": sum(m.shadow_pixels for m in measures)}
-            if contrast < MIN_SUN_CONTRAST:
-                sun_source, reason, direction, ratio_rgb = "none", (
-                    f"the sun's predicted shadows are only {contrast:.2f}x darker than the ground around them "
-                    f"(< {MIN_SUN_CONTRAST}): overcast"), None, None
-            else:
-                sun_source, reason = "location and time", (
-                    f"sun from the location and time; its shadows are {contrast:.2f}x darker than the ground")
-    else:
-        search = search_sun(camera, view, solids)
-        if search is None:
-            sun_source, reason, direction, ratio_rgb, shadow = "none", (
-                "no known solid casts a shadow on visible ground for any sun direction: no sun can be measured"), \
-                None, None, None
-        else:
-            shadow = {"contrast": round(search.contrast, 4), "prominence": round(search.prominence, 4),
-                      "azimuth_deg": search.azimuth_deg, "elevation_deg": search.elevation_deg,
-                      "candidates": search.candidates, "solids": len(search.measures),
-                      "shadow_pixels": sum(m.shadow_pixels for m in search.measures)}
-            if search.contrast >= MIN_SUN_CONTRAST and search.prominence >= MIN_SUN_PROMINENCE:
-                direction = (search.azimuth_deg, search.elevation_deg)
-                sun_source = "cast shadows"
-                ratio_rgb = shadow_ratio_rgb(camera, view, solids, sun_direction(*direction))
-                reason = (f"the known solids' shadows are {search.contrast:.2f}x darker than the ground around them "
-                          f"for the sun at azimuth {search.azimuth_deg:.0f} deg, elevation "
-                          f"{search.elevation_deg:.0f} deg")
-            else:
-                sun_source, direction, ratio_rgb = "none", None, None
-                reason = (f"no direct sun: the darkest predicted shadows are {search.contrast:.2f}x darker than the "
-                          f"ground around them (a sun needs >= {MIN_SUN_CONTRAST}x and "
-                          f"{math.exp(MIN_SUN_PROMINENCE):.2f}x over a typical direction, found "
-                          f"{math.exp(search.prominence):.2f}x): overcast")
-
-    if direction is None:
-        lit = view.ground
-        sun_to_sky_rgb = np.zeros(3)
-        sky = sky_from_ground(view, sun_to_sky_rgb, 90.0, lit)
+    sun = (sun_from_position(camera, view, solids, *known_sun) if known_sun is not None
+           else sun_from_shadows(camera, view, solids))
+    if sun.direction is None:
+        sky = sky_from_ground(view, np.zeros(3), 90.0, view.ground)
         illumination = Illumination(sky_rgb=_rgb(sky), sky_model="cie_overcast")
     else:
-        azimuth, elevation = direction
-        sun_to_sky_rgb = np.maximum(ratio_rgb - 1.0, 0.0) / math.sin(math.radians(elevation))
+        azimuth, elevation = sun.direction
+        sun_to_sky_rgb = np.maximum(sun.ratio_rgb - 1.0, 0.0) / math.sin(math.radians(elevation))
         lit = lit_ground(camera, view, solids, sun_direction(azimuth, elevation))
         sky = sky_from_ground(view, sun_to_sky_rgb, elevation, lit if lit.any() else view.ground)
         illumination = Illumination(sky_rgb=_rgb(sky), sun_rgb=_rgb(sky * sun_to_sky_rgb),
                                     sun_azimuth_deg=float(azimuth), sun_elevation_deg=float(elevation),
                                     sky_model="uniform")
-    return LightingEstimate(illumination=illumination, sun_source=sun_source, reason=reason,
-                            ground_pixels=ground_count, vegetation_share=round(vegetation_share, 4),
-                            shadow=shadow, white_point=white_point(illumination.sky_rgb))
+    return LightingEstimate(illumination=illumination, sun_source=sun.source, reason=sun.reason,
+                            ground_pixels=ground_count,
+                            vegetation_share=round(float(is_vegetation(view.linear[view.ground]).mean()), 4),
+                            shadow=sun.shadow, white_point=white_point(illumination.sky_rgb))

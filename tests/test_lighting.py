@@ -141,3 +141,16 @@ def test_a_scene_that_says_where_and_when_takes_the_sun_from_them(tmp_path) -> N
     assert light.sun_elevation_deg == pytest.approx(38.6, abs=1.5)
     truth = illumination_from_strengths(215.0, 40.0, 4.0, 1.0)
     assert light.sun_to_sky == pytest.approx(truth.sun_to_sky, rel=0.2)
+
+
+def test_a_given_sun_below_the_horizon_or_without_visible_shadows_is_no_sun(demo) -> None:
+    from vc.calibration.lighting import GroundView, sun_from_position
+
+    height, width = 40, 60
+    camera = demo.camera.resized(width, height)
+    view = GroundView(np.full((height, width, 3), 0.2, np.float32), np.ones((height, width), bool),
+                      np.zeros((height, width), bool), np.full((height, width), 0.2, np.float32))
+    below = sun_from_position(camera, view, [], 200.0, -4.0)
+    assert below.direction is None and below.source == "none" and "below the horizon" in below.reason
+    unseen = sun_from_position(camera, view, [], 200.0, 35.0)
+    assert unseen.direction is None and "cannot be measured" in unseen.reason
