@@ -154,3 +154,18 @@ def test_a_given_sun_below_the_horizon_or_without_visible_shadows_is_no_sun(demo
     assert below.direction is None and below.source == "none" and "below the horizon" in below.reason
     unseen = sun_from_position(camera, view, [], 200.0, 35.0)
     assert unseen.direction is None and "cannot be measured" in unseen.reason
+
+
+def test_exposure_is_fitted_on_all_ground_and_white_balance_on_the_paving() -> None:
+    from vc.render.relight import exposure_gain
+
+    rng = np.random.default_rng(0)
+    paved = np.tile(PAVED_ALBEDO, (300, 1)) * rng.uniform(0.8, 1.2, (300, 1))
+    lawn = np.tile(VEGETATION_ALBEDO, (200, 1)) * rng.uniform(0.8, 1.2, (200, 1))
+    rendered = np.concatenate([paved, lawn])
+    camera_gain = np.array([1.9, 2.0, 2.4])  # a blue-balanced camera, exposed 2x
+    background = rendered * camera_gain
+    background[300:] *= [0.7, 1.0, 0.5]  # this lawn is yellower than its prior: it must not tint the balance
+    gain = exposure_gain(background, rendered)
+    np.testing.assert_allclose(gain / luminance(gain), camera_gain / luminance(camera_gain), rtol=0.02)
+    assert np.isfinite(exposure_gain(np.zeros((10, 3)), rendered[:10])).all()
