@@ -11,6 +11,8 @@ from datetime import UTC, datetime
 import numpy as np
 import pytest
 from conftest import REPO, load_benchmark
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from vc.calibration.lighting import Illumination, illumination_from_strengths, sky_gradation, solar_position
 from vc.calibration.materials import PAVED_ALBEDO, VEGETATION_ALBEDO, ground_albedo_prior, luminance
@@ -169,3 +171,31 @@ def test_exposure_is_fitted_on_all_ground_and_white_balance_on_the_paving() -> N
     gain = exposure_gain(background, rendered)
     np.testing.assert_allclose(gain / luminance(gain), camera_gain / luminance(camera_gain), rtol=0.02)
     assert np.isfinite(exposure_gain(np.zeros((10, 3)), rendered[:10])).all()
+
+
+@settings(max_examples=40, deadline=None)
+@given(azimuth=st.floats(0.0, 360.0), elevation=st.floats(0.05, 89.95))
+def test_shadows_of_any_sun_stay_finite_and_measurable(demo, azimuth: float, elevation: float) -> None:
+    """Any sun, down to a grazing one whose shadows run for kilometres: outlines finite, measurements finite."""
+    from vc.calibration.lighting import (
+        GroundView,
+        measure_shadows,
+        shadow_mask,
+        shadow_outline,
+        shadow_score,
+        sun_direction,
+    )
+    from vc.render.relight import layout_solids
+
+    height, width = 54, 96
+    camera = demo.camera.resized(width, height)
+    texture = np.random.default_rng(0).uniform(0.1, 0.4, (height, width, 3)).astype(np.float32)
+    view = GroundView(texture, np.ones((height, width), bool), np.zeros((height, width), bool),
+                      luminance(texture).astype(np.float32))
+    towards = sun_direction(azimuth, elevation)
+    solids = layout_solids(demo.layout)
+    assert all(np.isfinite(shadow_outline(solid, towards)).all() for solid in solids)
+    measures = measure_shadows(camera, view, solids, towards)
+    score = shadow_score(measures)
+    assert score is None or np.isfinite(score)
+    assert shadow_mask(camera, (height, width), solids, towards).dtype == bool

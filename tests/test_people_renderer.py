@@ -121,3 +121,24 @@ def test_shadow_pass_darkens_the_ground_where_the_sun_is_blocked_and_only_there(
     far = passes.shadow[:10, :10]
     np.testing.assert_array_equal(far, np.ones_like(far))
     assert (passes.shadow <= 1.0 + 1e-6).all()
+
+
+@pytest.mark.parametrize(("elevation", "azimuth", "sky_model"), [
+    (0.3, 0.0, "uniform"),  # the sun on the horizon: shadows kilometres long
+    (89.9, 0.0, "uniform"),  # overhead
+    (30.0, 84.0, "uniform"),  # behind the camera (which looks along +y from -y): shadows fall away from it
+    (45.0, 0.0, "cie_overcast"),  # a zero sun under an overcast sky
+], ids=["horizon", "zenith", "behind-camera", "overcast"])
+def test_extreme_light_keeps_every_pass_finite(elevation: float, azimuth: float, sky_model: str) -> None:
+    from dataclasses import replace
+
+    sun = 0.0 if sky_model == "cie_overcast" else 4.0
+    light = replace(explicit_illumination(Lighting(sun_azimuth_deg=azimuth, sun_elevation_deg=elevation,
+                                                   sun_strength=sun, sky_strength=1.0)), sky_model=sky_model)
+    renderer = PeopleRenderer(IDEAL, LAYOUT, light, np.asarray(SPHERE.faces), len(SPHERE.vertices), max_people=2,
+                              spp=8)
+    passes = renderer.render([_sphere(np.array([0.0, 0.0, 0.5])), _sphere(np.array([1.0, 1.0, 0.3]))], seed=1)
+    for layer in (passes.beauty, passes.alpha, passes.coverage, passes.shadow):
+        assert np.isfinite(layer).all()
+    assert (passes.shadow >= 0).all() and (passes.shadow <= 1.0 + 1e-6).all()
+    assert passes.beauty.max() > 0  # the spheres are lit, whatever the sun does
