@@ -175,10 +175,12 @@ class Sweep:
         return seconds
 
     def scene(self, point: Point) -> Path:
-        """The scene YAML with the point's overrides (effects, region plan), its image path made absolute."""
+        """The scene YAML with the point's overrides (effects, region plan), its image and video paths absolute."""
         document = yaml.safe_load(self.scene_yaml.read_text())
-        image = Path(document["image"])
-        document["image"] = str(image if image.is_absolute() else (self.scene_yaml.parent / image).resolve())
+        for key in ("image", "video"):  # the files the scene names, wherever the copy is written
+            if key in document:
+                path = Path(document[key])
+                document[key] = str(path if path.is_absolute() else (self.scene_yaml.parent / path).resolve())
         regions = document.get("regions", "auto")
         regions = {"mode": regions} if isinstance(regions, str) else dict(regions)
         if point.single_region:

@@ -314,3 +314,24 @@ def test_the_appearance_gap_measures_people_against_the_ground_behind_them():
     assert level == pytest.approx(0.2126 * 0.05 + 0.7152 * 0.05 + 0.0722 * 0.10, rel=1e-3)
     assert contrast == pytest.approx(np.log2(level / 0.4), rel=1e-3)
     assert saturation == pytest.approx(0.5, rel=1e-3)
+
+
+def test_the_scene_copy_finds_the_video_of_the_scene(tmp_path):
+    """The sweep writes the scene it compiles into its work folder: the files the original names (image, video)
+    must still be found from there."""
+    import yaml
+
+    from vc.scenes.loader import BUNDLED_SCENES
+
+    original = BUNDLED_SCENES / "demo"
+    folder = tmp_path / "scene"
+    folder.mkdir()
+    document = yaml.safe_load((original / "scene.yaml").read_text())
+    document["image"] = str(original / "background.png")
+    document["video"] = "frames"
+    (folder / "frames").mkdir()
+    (folder / "scene.yaml").write_text(yaml.safe_dump(document))
+    sweep = sweep_module.Sweep(argparse.Namespace(work=tmp_path / "work", scene=folder / "scene.yaml", quiet=True,
+                                                  no_runtime=True))
+    copied = yaml.safe_load(sweep.scene(BASE).read_text())
+    assert copied["video"] == str((folder / "frames").resolve())
