@@ -34,13 +34,13 @@ def render_costs(work: Path, point: sweep.Point) -> dict:
     manifest = json.loads(manifest_path.read_text())
     samples = sum(region["counts"]["samples"] for region in manifest["regions"].values() if "counts" in region)
     seconds_record = work / "renders" / f"{point.render_key()}.seconds.json"
-    result = {"effects_on": {effect["name"]: effect.get("ms_per_sample") for effect in manifest.get("effects", [])
-                             if effect["on"]},
-              "lighting": manifest.get("lighting", {}).get("illumination")}
+    # the measured costs are in the render summary (the manifest keeps only what the pixels depend on)
+    summary = json.loads(summary_path.read_text()) if summary_path.is_file() else {}
+    effects = summary.get("effects", manifest.get("effects", []))
+    result = {"effects_on": {effect["name"]: effect.get("ms_per_sample") for effect in effects if effect["on"]},
+              "lighting": manifest.get("lighting", {}).get("illumination"), "plan_seconds": summary.get("plan_seconds")}
     if seconds_record.is_file() and samples:
         result["render_ms_per_sample"] = 1000.0 * json.loads(seconds_record.read_text())["seconds"] / samples
-    if summary_path.is_file():
-        result["plan_seconds"] = json.loads(summary_path.read_text()).get("plan_seconds")
     return result
 
 
