@@ -102,8 +102,8 @@ def compare_photometry(scene: Scene, bodies: BodyModel, samples: int, warmup: in
     for region in regions:
         row = {"region": region.name, "input_size": list(region.input_size)}
         for name, plan in plans.items():
-            synthesizer = RegionSynthesizer(plan_scene(scene, name), region, bodies,
-                                            SynthesisSettings(spp=REFERENCE_SPP), plan)
+            rendered = photometry_off(scene) if name == "off" else scene
+            synthesizer = RegionSynthesizer(rendered, region, bodies, SynthesisSettings(spp=REFERENCE_SPP), plan)
             row[name] = measure(synthesizer, samples, warmup, scratch)
         effects = {step: ms for step, ms in row["matched"]["ms_per_step"].items() if step.startswith("effect.")}
         row["slowdown_ms_per_sample"] = round(row["matched"]["ms_per_sample"] - row["off"]["ms_per_sample"], 1)
@@ -112,10 +112,6 @@ def compare_photometry(scene: Scene, bodies: BodyModel, samples: int, warmup: in
         print(json.dumps(row))
         rows.append(row)
     return rows
-
-
-def plan_scene(scene: Scene, photometry: str) -> Scene:
-    return photometry_off(scene) if photometry == "off" else scene
 
 
 def _write_photometry(rows: list[dict], out: Path) -> None:
