@@ -5,6 +5,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
+from vc.deploy.misses import FalsePositive, PersonOutcome
 from vc.deploy.runtime import Person
 from vc.keypoints import COCO_SKELETON
 
@@ -12,6 +13,9 @@ from vc.keypoints import COCO_SKELETON
 PALETTE = np.array([(230, 25, 75), (60, 180, 75), (255, 225, 25), (0, 130, 200), (245, 130, 48), (145, 30, 180),
                     (70, 240, 240), (240, 50, 230), (210, 245, 60), (250, 190, 212)], np.uint8)
 TRUTH_COLOUR = (255, 255, 255)
+#: Ground-truth boxes by outcome in an error sheet, and the false positives' colour (RGB).
+OUTCOME_COLOURS = {"found": (255, 255, 255), "near miss": (255, 160, 0), "missed": (255, 0, 0)}
+FALSE_POSITIVE_COLOUR = (255, 0, 255)
 MASK_OPACITY = 0.4
 
 
@@ -43,6 +47,28 @@ def draw_people(frame: np.ndarray, people: list[Person], keypoint_threshold: flo
             cv2.circle(image, _point(keypoint), 2, colour, -1, cv2.LINE_AA)
         cv2.putText(image, f"{person.score:.2f}", (int(person.box[0]), max(int(person.box[1]) - 3, 10)),
                     cv2.FONT_HERSHEY_SIMPLEX, 0.4, colour, 1, cv2.LINE_AA)
+    return image
+
+
+def draw_errors(frame: np.ndarray, number: int, people: list[Person], outcomes: list[PersonOutcome],
+                false_positives: list[FalsePositive]) -> np.ndarray:
+    """A copy of ``frame`` with the detections (:func:`draw_people`), each ground-truth person's box in the colour of
+    its outcome (white found, orange near miss, red missed), each false positive in magenta with its kind's initial
+    (duplicate, merged, misplaced, background), and a caption with the frame number and its errors."""
+    image = draw_people(frame, people)
+    for person in outcomes:
+        thickness = 1 if person.outcome == "found" else 2
+        cv2.rectangle(image, _point(person.box[:2]), _point(person.box[2:]), OUTCOME_COLOURS[person.outcome],
+                      thickness, cv2.LINE_AA)
+    for false in false_positives:
+        cv2.rectangle(image, _point(false.box[:2]), _point(false.box[2:]), FALSE_POSITIVE_COLOUR, 1, cv2.LINE_AA)
+        cv2.putText(image, false.kind[0], (int(false.box[0]) + 2, int(false.box[3]) - 3), cv2.FONT_HERSHEY_SIMPLEX,
+                    0.45, FALSE_POSITIVE_COLOUR, 1, cv2.LINE_AA)
+    missed = sum(person.outcome == "missed" for person in outcomes)
+    near = sum(person.outcome == "near miss" for person in outcomes)
+    caption = f"frame {number}: {missed} missed, {near} near, {len(false_positives)} false"
+    cv2.putText(image, caption, (8, 24), cv2.FONT_HERSHEY_SIMPLEX, 0.7, (0, 0, 0), 4, cv2.LINE_AA)
+    cv2.putText(image, caption, (8, 24), cv2.FONT_HERSHEY_SIMPLEX, 0.7, (255, 255, 255), 1, cv2.LINE_AA)
     return image
 
 

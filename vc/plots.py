@@ -1,4 +1,5 @@
-"""The result images people look at: precision-recall curves and training curves (matplotlib, headless).
+"""The result images people look at: precision-recall curves, training curves, lighting and miss analyses
+(matplotlib, headless).
 
 Every figure is written through a temporary name and renamed, like every other output.
 """
@@ -15,6 +16,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from vc.deploy.metrics import Evaluation  # noqa: E402
+from vc.deploy.misses import NEAR_IOU, OUTCOMES, MissAnalysis  # noqa: E402
 from vc.io import atomic_path  # noqa: E402
 
 
@@ -92,5 +94,60 @@ def plot_lighting_comparison(background: np.ndarray, rerender: np.ndarray, log_e
     for axis in (top_left, top_right, bottom_left):
         axis.set_axis_off()
     figure.suptitle(title, fontsize=10)
+    figure.tight_layout()
+    _save(figure, destination)
+
+
+def plot_miss_analysis(analysis: MissAnalysis, destination: Path, title: str) -> None:
+    """The operating point's errors (:mod:`vc.deploy.misses`): outcomes of people apart and in groups, recall by
+    height and region, the near misses' box errors, and the false positives by kind."""
+    figure, axes = plt.subplots(2, 2, figsize=(11, 8))
+    (outcomes_axis, recall_axis), (near_axis, false_axis) = axes
+    colours = {"found": "tab:green", "near miss": "tab:orange", "missed": "tab:red"}
+    groups = {"apart": analysis.outcomes(False), "overlapping another": analysis.outcomes(True)}
+    bottom = np.zeros(len(groups))
+    for outcome in OUTCOMES:
+        counts = np.array([groups[label][outcome] for label in groups], float)
+        outcomes_axis.bar(list(groups), counts, bottom=bottom, color=colours[outcome], label=outcome)
+        bottom += counts
+    for index, label in enumerate(groups):
+        total = sum(groups[label].values())
+        if total:
+            outcomes_axis.annotate(f"recall {groups[label]['found'] / total:.2f}", (index, bottom[index]),
+                                   ha="center", va="bottom", fontsize=9)
+    outcomes_axis.set(ylabel="ground-truth people", title="people apart and in groups (IoU >= 0.1 with another)")
+    outcomes_axis.legend(fontsize=8)
+
+    rates = {**{f"height {k}": v for k, v in analysis.recall_by_height().items()},
+             **{f"region {k}": v for k, v in analysis.recall_by_region().items()}}
+    labels = list(rates)
+    values = [rates[label]["recall"] or 0.0 for label in labels]
+    bars = recall_axis.barh(labels, values, color=["tab:blue" if label.startswith("height") else "tab:purple"
+                                                   for label in labels])
+    for bar, label in zip(bars, labels, strict=True):
+        recall_axis.annotate(f" {rates[label]['recall']:.2f} of {rates[label]['people']}",
+                             (bar.get_width(), bar.get_y() + bar.get_height() / 2), va="center", fontsize=8)
+    recall_axis.invert_yaxis()
+    recall_axis.set(xlim=(0, 1.25), xlabel="recall", title="recall by person height and region")
+
+    near = [person for person in analysis.people if person.outcome == "near miss"]
+    errors = [person.box_error() for person in near]
+    for another, colour, label in ((False, "tab:orange", "a misplaced box"), (True, "tab:gray", "a neighbour's box")):
+        chosen = [error for error, person in zip(errors, near, strict=True) if person.nearest_found_another == another]
+        if chosen:
+            near_axis.scatter([e["width_ratio"] for e in chosen], [e["x_offset"] for e in chosen], s=18,
+                              color=colour, alpha=0.7, label=f"{label} ({len(chosen)})")
+    near_axis.axvline(1.0, color="black", lw=0.8)
+    near_axis.axhline(0.0, color="black", lw=0.8)
+    near_axis.set(xlabel="width ratio (detection / truth)", ylabel="horizontal offset (truth widths)",
+                  title=f"near misses (IoU {NEAR_IOU}-0.5 with a detection): {len(near)}")
+    if near:
+        near_axis.legend(fontsize=8)
+
+    kinds = analysis.false_positive_kinds()
+    false_axis.bar(list(kinds), list(kinds.values()), color="tab:red")
+    false_axis.set(ylabel="detections", title=f"false positives by kind: {len(analysis.false_positives)}")
+    figure.suptitle(f"{title} — operating point: score >= {analysis.score_threshold:.2f}, precision "
+                    f"{analysis.precision:.3f}, recall {analysis.recall:.3f}", fontsize=10)
     figure.tight_layout()
     _save(figure, destination)

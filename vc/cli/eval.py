@@ -6,9 +6,14 @@
 For every selected frame each detector runs and is timed: the bundle (through :mod:`vc.deploy.runtime`, as the
 appliance runs it), OpenCV's HOG people detector, and optionally any YOLO-pose style ONNX model. Writes
 ``OUT/metrics.json`` (AP50, milliseconds per frame, and for the bundle its operating point and recall by person
-height), ``OUT/precision_recall.png``, ``OUT/contact_sheet.png`` (frames with the bundle's people in colour and
-the ground truth in white) and ``OUT/detections.jsonl``. GT is in the MOT text format; only frames inside its
-annotated range can be selected (a frame without a line there has nobody in it). Bad input exits with status 2.
+height, group and region), ``OUT/precision_recall.png``, ``OUT/contact_sheet.png`` (frames with the bundle's people
+in colour and the ground truth in white), ``OUT/detections.jsonl``, and the bundle's miss analysis
+(:mod:`vc.deploy.misses`): ``OUT/misses.json`` (near misses and misses, the near misses' box errors, false
+positives by kind, every error listed), ``OUT/misses.png`` and ``OUT/worst_frames.png`` (the frames of most
+errors: truth white when found, orange near missed, red missed; false positives magenta).
+
+GT is in the MOT text format; only frames inside its annotated range can be selected (a frame without a line
+there has nobody in it). Bad input exits with status 2.
 """
 
 from __future__ import annotations
@@ -26,21 +31,18 @@ from tqdm import tqdm
 from vc import __version__
 from vc.baselines import HogPeopleDetector, YoloPoseOnnx
 from vc.cli.common import handles_input_errors, positive_int
-from vc.deploy.metrics import Evaluation, ImageResult, box_iou, evaluate
+from vc.deploy.metrics import Evaluation, ImageResult, evaluate
+from vc.deploy.misses import MissAnalysis, analyse_misses, region_lookup
 from vc.deploy.runtime import Person, Runtime
-from vc.draw import contact_sheet, draw_people
+from vc.draw import contact_sheet, draw_errors, draw_people
 from vc.errors import InputError
 from vc.frames import FrameRange, FrameSource
 from vc.io import atomic_directory, write_image, write_json
 from vc.mot import read_mot_boxes
-from vc.plots import plot_precision_recall
+from vc.plots import plot_miss_analysis, plot_precision_recall
 
 OURS = "visual compiler"
-#: Ground-truth person heights (px) over which the bundle's recall is broken down.
-HEIGHT_BINS = (0, 60, 80, 100, 10_000)
 SHEET_FRAMES = 8
-#: Ground-truth people overlapping another this much count as "in a group" in the breakdown.
-GROUP_IOU = 0.1
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -81,42 +83,6 @@ class _Record:
                                  "mean": round(float(np.mean(self.milliseconds)), 2)}}
 
 
-def operating_point(images: list[ImageResult], evaluation: Evaluation) -> dict:
-    """The score threshold of best F1, and what it finds and misses there, by ground-truth person height."""
-    if not len(evaluation.scores):
-        return {}
-    f1 = 2 * evaluation.precision * evaluation.recall / np.maximum(evaluation.precision + evaluation.recall, 1e-9)
-    best = int(np.argmax(f1))
-    threshold = float(evaluation.scores[best])
-    kept = [ImageResult(image.truth_boxes, image.boxes[image.scores >= threshold],
-                        image.scores[image.scores >= threshold]) for image in images]
-    matches = evaluate(kept).matches
-    heights = np.concatenate([image.truth_boxes[:, 3] - image.truth_boxes[:, 1] for image in images])
-    found = np.concatenate([np.isin(np.arange(len(image.truth_boxes)), [t for t, _ in pairs])
-                            for image, pairs in zip(images, matches, strict=True)])
-    by_height = {}
-    for low, high in zip(HEIGHT_BINS[:-1], HEIGHT_BINS[1:], strict=True):
-        inside = (heights >= low) & (heights < high)
-        if inside.any():
-            label = f"{low}-{high} px" if high < HEIGHT_BINS[-1] else f">= {low} px"
-            by_height[label] = {"people": int(inside.sum()), "recall": round(float(found[inside].mean()), 4)}
-    overlapped = np.concatenate([_overlapped(image.truth_boxes) for image in images])
-    by_overlap = {label: {"people": int(inside.sum()), "recall": round(float(found[inside].mean()), 4)}
-                  for label, inside in (("apart", ~overlapped), ("overlapping another", overlapped)) if inside.any()}
-    detections = sum(len(image.boxes) for image in kept)
-    return {"score_threshold": round(threshold, 4), "precision": round(float(evaluation.precision[best]), 4),
-            "recall": round(float(evaluation.recall[best]), 4), "f1": round(float(f1[best]), 4),
-            "false_positives": int(detections - found.sum()), "missed": int((~found).sum()),
-            "recall_by_height": by_height, "recall_by_overlap": by_overlap}
-
-
-def _overlapped(boxes: np.ndarray) -> np.ndarray:
-    """Which ground-truth people overlap another by IoU >= :data:`GROUP_IOU` (groups, partial occlusion)."""
-    iou = box_iou(boxes, boxes)
-    np.fill_diagonal(iou, 0.0)
-    return iou.max(axis=1, initial=0.0) >= GROUP_IOU
-
-
 def _detectors(args: argparse.Namespace) -> dict:
     detectors = {}
     if not args.no_hog:
@@ -135,6 +101,40 @@ def _check_selection(source: FrameSource, truth: dict[int, np.ndarray], gt_path:
                                             f"({last_annotated}); select with --frames first:{last_annotated}:step")
 
 
+def _rates(rates: dict) -> str:
+    return ", ".join(f"{label} {value['recall']:.2f} ({value['people']})" for label, value in rates.items())
+
+
+def _miss_summary(misses: MissAnalysis) -> str:
+    outcomes, kinds, near = misses.outcomes(), misses.false_positive_kinds(), misses.near_miss_errors()
+    lines = [f"  at score >= {misses.score_threshold:.3f}: precision {misses.precision:.3f}, recall "
+             f"{misses.recall:.3f}; not found {outcomes['near miss'] + outcomes['missed']}: {outcomes['near miss']} "
+             f"near misses, {outcomes['missed']} with nothing near",
+             f"  recall by height: {_rates(misses.recall_by_height())}",
+             f"  by overlap: {_rates(misses.recall_by_group())}; by region: {_rates(misses.recall_by_region())}",
+             "  false positives: " + ", ".join(f"{count} {kind}" for kind, count in kinds.items())]
+    if near["width_ratio"] is not None:
+        lines.append(f"  near misses: width x{near['width_ratio']['median']:.2f}, height "
+                     f"x{near['height_ratio']['median']:.2f}, |offset| {near['abs_x_offset']['median']:.2f} widths; "
+                     f"{near['neighbour_box']} were a neighbour's box")
+    return "\n".join(lines)
+
+
+def _write_miss_analysis(folder: Path, misses: MissAnalysis, video: Path, frames: FrameRange,
+                         people_by_frame: dict[int, list[Person]], title: str) -> None:
+    """``misses.json``, ``misses.png`` and ``worst_frames.png`` (the frames of most errors, read again)."""
+    write_json(folder / "misses.json", misses.to_dict())
+    plot_miss_analysis(misses, folder / "misses.png", title)
+    worst = set(misses.worst_frames(SHEET_FRAMES))
+    if not worst:
+        return
+    sheet = [draw_errors(frame.image, frame.number, people_by_frame[frame.number],
+                         [person for person in misses.people if person.frame == frame.number],
+                         [false for false in misses.false_positives if false.frame == frame.number])
+             for frame in FrameSource(video, frames) if frame.number in worst]
+    write_image(folder / "worst_frames.png", contact_sheet(sheet))
+
+
 @handles_input_errors
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
@@ -148,7 +148,7 @@ def main(argv: list[str] | None = None) -> int:
     others = _detectors(args)
     records = {OURS: _Record(), **{name: _Record() for name in others}}
     sheet_numbers = set(np.linspace(0, source.count - 1, min(SHEET_FRAMES, source.count)).round().astype(int))
-    sheet, lines = [], []
+    sheet, lines, people_by_frame = [], [], {}
     width, height = runtime.bundle.frame_size
     for index, frame in enumerate(tqdm(source, total=len(source), desc="vc-eval", unit="frame",
                                        disable=args.quiet)):
@@ -162,6 +162,7 @@ def main(argv: list[str] | None = None) -> int:
         records[OURS].add(boxes_truth, np.array([p.box for p in people]), np.array([p.score for p in people]),
                           time.perf_counter() - start)
         lines.append({"frame": frame.number, "people": [person.to_dict() for person in people]})
+        people_by_frame[frame.number] = people
         for name, detector in others.items():
             start = time.perf_counter()
             boxes, scores = detector(frame.image)
@@ -169,13 +170,15 @@ def main(argv: list[str] | None = None) -> int:
         if index in sheet_numbers:
             sheet.append(draw_people(frame.image, people, truth_boxes=boxes_truth))
     evaluations = {name: evaluate(record.images) for name, record in records.items()}
+    areas = {entry.name: entry.owned_image_area for entry in runtime.bundle.regions}
+    misses = analyse_misses(records[OURS].images, list(people_by_frame), region_lookup(areas))
     metrics = {
         "bundle": str(args.bundle), "scene": runtime.bundle.manifest["scene"], "video": str(args.video),
         "ground_truth": str(args.gt), "frames": {"first": args.frames.first, "last": args.frames.last,
                                                  "step": args.frames.step, "count": source.count},
         "threads": args.threads, "iou_threshold": 0.5,
         "detectors": {name: record.summary(evaluations[name]) for name, record in records.items()},
-        "operating_point": operating_point(records[OURS].images, evaluations[OURS]),
+        "operating_point": misses.summary() if misses is not None else {},
     }
     with atomic_directory(args.output) as staging:
         write_json(staging / "metrics.json", metrics)
@@ -183,16 +186,13 @@ def main(argv: list[str] | None = None) -> int:
                               f"{metrics['scene']}: {source.count} real frames, AP at IoU 0.5")
         write_image(staging / "contact_sheet.png", contact_sheet(sheet))
         (staging / "detections.jsonl").write_text("".join(json.dumps(line) + "\n" for line in lines))
+        if misses is not None:
+            _write_miss_analysis(staging, misses, args.video, args.frames, people_by_frame,
+                                 f"{metrics['scene']}: {source.count} real frames")
     print(f"vc-eval: {source.count} frames of {args.video.name}, {evaluations[OURS].ground_truth} people -> "
           f"{args.output}")
     for name, summary in metrics["detectors"].items():
         print(f"  {name:32s} AP50 {summary['ap50']:.3f}   {summary['ms_per_frame']['median']:8.1f} ms/frame")
-    point = metrics["operating_point"]
-    if point:
-        print(f"  at score >= {point['score_threshold']}: precision {point['precision']:.3f}, recall "
-              f"{point['recall']:.3f}; recall by height: " + ", ".join(
-                  f"{label} {value['recall']:.2f} ({value['people']})"
-                  for label, value in point["recall_by_height"].items())
-              + "; by overlap: " + ", ".join(f"{label} {value['recall']:.2f} ({value['people']})"
-                                            for label, value in point["recall_by_overlap"].items()))
+    if misses is not None:
+        print(_miss_summary(misses))
     return 0

@@ -1,0 +1,295 @@
+"""Why people are missed: a detector's errors on real frames at its operating point, sorted by kind (numpy only).
+
+The analysis behind ``vc-eval``'s ``misses.json`` and ``misses.png``, and how progress on real-frame accuracy is
+read. Boxes are [x0, y0, x1, y1] in frame pixels; matching is :func:`vc.deploy.metrics.evaluate`'s.
+
+1. The operating point is the score threshold of best F1 along the precision-recall curve; only detections at
+   or above it are kept.
+2. Every ground-truth person is then one of:
+
+   * **found**: matched by a kept detection at IoU >= 0.5;
+   * **near miss**: not found, but a kept detection overlaps it by IoU in [:data:`NEAR_IOU`, 0.5): the person was
+     seen and the box is wrong. Its error is measured against that detection (the nearest): width and height
+     ratios (detection over truth) and the offset of the box centres in truth widths and heights. Whether that
+     detection found somebody else (a neighbour's box reaching over) or nobody (a misplaced box) is kept too;
+   * **missed**: no kept detection overlaps it by IoU >= :data:`NEAR_IOU`.
+
+3. Every kept detection that matches nobody is a false positive of one kind, tested in this order:
+
+   * **duplicate**: overlaps a found person by IoU >= 0.5 (a second detection of someone already found);
+   * **merged**: its box holds the box centres of two or more people (one box over a group);
+   * **misplaced**: overlaps one person by IoU >= :data:`NEAR_IOU` (the other side of a near miss);
+   * **background**: none of these (nobody there, or a person too far off to count).
+
+4. Recall is broken down by group (a person whose box overlaps another's by IoU >= :data:`GROUP_IOU`), person
+   height (:data:`HEIGHT_BINS`) and region (the region whose owned image area holds the person's foot point,
+   the bottom centre of the box, as the runtime assigns detections).
+5. Frames are ranked by their errors (misses, near misses and false positives) for a contact sheet of the worst.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from vc.deploy.metrics import IOU_THRESHOLD, Evaluation, ImageResult, box_iou, evaluate
+from vc.deploy.runtime import in_area
+
+#: A detection overlapping a person by at least this IoU (and less than 0.5) makes the person a near miss.
+NEAR_IOU = 0.3
+#: Ground-truth people overlapping another by at least this IoU count as "in a group" (groups, occlusion).
+GROUP_IOU = 0.1
+#: Ground-truth person heights (px) over which recall is broken down.
+HEIGHT_BINS = (0, 60, 80, 100, 10_000)
+OUTCOMES = ("found", "near miss", "missed")
+FALSE_POSITIVE_KINDS = ("duplicate", "merged", "misplaced", "background")
+
+
+@dataclass(frozen=True)
+class PersonOutcome:
+    """One ground-truth person at the operating point."""
+
+    frame: int
+    box: np.ndarray  # (4,) the ground-truth box
+    outcome: str  # one of OUTCOMES
+    best_iou: float  # with any kept detection
+    grouped: bool  # overlaps another ground-truth person by IoU >= GROUP_IOU
+    region: str | None  # whose owned area holds the foot point; None outside every region or without regions
+    nearest: np.ndarray | None = None  # (4,) the kept detection of best IoU, for near misses
+    nearest_found_another: bool = False  # that detection is another person's match
+
+    @property
+    def height(self) -> float:
+        return float(self.box[3] - self.box[1])
+
+    def box_error(self) -> dict | None:
+        """A near miss's box against the truth: width and height ratios, centre offsets in truth widths and
+        heights (+: the detection is right of / below the person)."""
+        if self.nearest is None:
+            return None
+        truth_size, detected_size = self.box[2:] - self.box[:2], self.nearest[2:] - self.nearest[:2]
+        offset = ((self.nearest[:2] + self.nearest[2:]) - (self.box[:2] + self.box[2:])) / 2 / truth_size
+        return {"width_ratio": float(detected_size[0] / truth_size[0]),
+                "height_ratio": float(detected_size[1] / truth_size[1]),
+                "x_offset": float(offset[0]), "y_offset": float(offset[1])}
+
+    def to_dict(self) -> dict:
+        result = {"frame": self.frame, "box": [round(float(v), 1) for v in self.box], "outcome": self.outcome,
+                  "best_iou": round(self.best_iou, 3), "grouped": self.grouped, "region": self.region}
+        error = self.box_error()
+        if error is not None:
+            result.update({key: round(value, 3) for key, value in error.items()},
+                          nearest=[round(float(v), 1) for v in self.nearest],
+                          nearest_found_another=self.nearest_found_another)
+        return result
+
+
+@dataclass(frozen=True)
+class FalsePositive:
+    frame: int
+    box: np.ndarray  # (4,)
+    score: float
+    kind: str  # one of FALSE_POSITIVE_KINDS
+
+    def to_dict(self) -> dict:
+        return {"frame": self.frame, "box": [round(float(v), 1) for v in self.box], "score": round(self.score, 4),
+                "kind": self.kind}
+
+
+def _rate(found: np.ndarray) -> dict:
+    return {"people": int(len(found)), "recall": round(float(np.mean(found)), 4) if len(found) else None}
+
+
+def _quartiles(values: Sequence[float]) -> dict | None:
+    if not len(values):
+        return None
+    low, median, high = np.percentile(values, [25, 50, 75])
+    return {"median": round(float(median), 3), "q1": round(float(low), 3), "q3": round(float(high), 3)}
+
+
+@dataclass(frozen=True)
+class MissAnalysis:
+    """Every person and false positive of a detector's operating point (see the module docstring)."""
+
+    score_threshold: float
+    precision: float
+    recall: float
+    people: list[PersonOutcome]
+    false_positives: list[FalsePositive]
+
+    @property
+    def f1(self) -> float:
+        return 2 * self.precision * self.recall / max(self.precision + self.recall, 1e-9)
+
+    def _found_where(self, selected: Sequence[bool]) -> np.ndarray:
+        """Whether each selected person was found."""
+        return np.array([person.outcome == "found" for person, chosen in zip(self.people, selected, strict=True)
+                         if chosen], bool)
+
+    def recall_by_height(self) -> dict:
+        heights = np.array([person.height for person in self.people])
+        rates = {}
+        for low, high in zip(HEIGHT_BINS[:-1], HEIGHT_BINS[1:], strict=True):
+            found = self._found_where((heights >= low) & (heights < high))
+            if len(found):
+                rates[f"{low}-{high} px" if high < HEIGHT_BINS[-1] else f">= {low} px"] = _rate(found)
+        return rates
+
+    def recall_by_group(self) -> dict:
+        in_group = np.array([person.grouped for person in self.people], bool)
+        return {label: _rate(found) for label, selected in (("apart", ~in_group), ("overlapping another", in_group))
+                if len(found := self._found_where(selected))}
+
+    def recall_by_region(self) -> dict:
+        regions = [person.region for person in self.people]
+        names = sorted({name for name in regions if name is not None})
+        rates = {name: _rate(self._found_where([region == name for region in regions])) for name in names}
+        outside = self._found_where([region is None for region in regions])
+        if len(outside) and names:
+            rates["outside every region"] = _rate(outside)
+        return rates
+
+    def outcomes(self, grouped: bool | None = None) -> dict[str, int]:
+        """People per outcome, of all people or of those (not) in a group."""
+        return {outcome: sum(person.outcome == outcome and grouped in (None, person.grouped)
+                             for person in self.people) for outcome in OUTCOMES}
+
+    def false_positive_kinds(self) -> dict[str, int]:
+        return {kind: sum(fp.kind == kind for fp in self.false_positives) for kind in FALSE_POSITIVE_KINDS}
+
+    def near_miss_errors(self) -> dict:
+        """Quartiles of the near misses' box errors, and how many were a neighbour's box."""
+        errors = [person.box_error() for person in self.people if person.outcome == "near miss"]
+        result = {key: _quartiles([error[key] for error in errors])
+                  for key in ("width_ratio", "height_ratio", "x_offset", "y_offset")}
+        result["abs_x_offset"] = _quartiles([abs(error["x_offset"]) for error in errors])
+        result["neighbour_box"] = sum(person.nearest_found_another for person in self.people
+                                      if person.outcome == "near miss")
+        return result
+
+    def frame_errors(self) -> dict[int, int]:
+        """Errors per frame (people not found plus false positives), every frame with a person or a detection."""
+        errors: dict[int, int] = {}
+        for person in self.people:
+            errors[person.frame] = errors.get(person.frame, 0) + (person.outcome != "found")
+        for fp in self.false_positives:
+            errors[fp.frame] = errors.get(fp.frame, 0) + 1
+        return errors
+
+    def worst_frames(self, count: int) -> list[int]:
+        """The ``count`` frames with the most errors (earlier frames first among equals), frames without errors
+        left out."""
+        ranked = sorted(((-errors, frame) for frame, errors in self.frame_errors().items() if errors))
+        return [frame for _, frame in ranked[:count]]
+
+    def summary(self) -> dict:
+        """The operating point in a few numbers (what ``metrics.json`` keeps)."""
+        return {"score_threshold": round(self.score_threshold, 4), "precision": round(self.precision, 4),
+                "recall": round(self.recall, 4), "f1": round(self.f1, 4),
+                "false_positives": len(self.false_positives), "missed": len(self.people) - self.outcomes()["found"],
+                "outcomes": self.outcomes(), "recall_by_height": self.recall_by_height(),
+                "recall_by_overlap": self.recall_by_group(), "recall_by_region": self.recall_by_region()}
+
+    def to_dict(self) -> dict:
+        return {**self.summary(),
+                "outcomes_by_overlap": {"apart": self.outcomes(False), "overlapping another": self.outcomes(True)},
+                "near_miss_box_errors": self.near_miss_errors(),
+                "false_positive_kinds": self.false_positive_kinds(),
+                "worst_frames": [{"frame": frame, "errors": self.frame_errors()[frame]}
+                                 for frame in self.worst_frames(10)],
+                "people": [person.to_dict() for person in self.people if person.outcome != "found"],
+                "false_positive_list": [fp.to_dict() for fp in self.false_positives]}
+
+
+def operating_threshold(evaluation: Evaluation) -> int | None:
+    """Index along the ranked detections of the best F1 (None without detections)."""
+    if not len(evaluation.scores):
+        return None
+    precision, recall = evaluation.precision, evaluation.recall
+    f1 = 2 * precision * recall / np.maximum(precision + recall, 1e-9)
+    return int(np.argmax(f1))
+
+
+def grouped(boxes: np.ndarray) -> np.ndarray:
+    """Which boxes (N, 4) overlap another by IoU >= :data:`GROUP_IOU`."""
+    iou = box_iou(boxes, boxes)
+    np.fill_diagonal(iou, 0.0)
+    return iou.max(axis=1, initial=0.0) >= GROUP_IOU
+
+
+def _false_positive_kind(detection: np.ndarray, truth: np.ndarray, overlaps: np.ndarray, found: np.ndarray) -> str:
+    """``overlaps``: this detection's IoU with each ground-truth box; ``found``: which of them are matched."""
+    if np.any(found & (overlaps >= IOU_THRESHOLD)):
+        return "duplicate"
+    centres = (truth[:, :2] + truth[:, 2:]) / 2
+    inside = np.all((centres >= detection[:2]) & (centres <= detection[2:]), axis=1)
+    if inside.sum() >= 2:
+        return "merged"
+    if np.any(overlaps >= NEAR_IOU):
+        return "misplaced"
+    return "background"
+
+
+def analyse_misses(images: Sequence[ImageResult], frames: Sequence[int],
+                   region_of: Callable[[np.ndarray], list[str | None]] | None = None) -> MissAnalysis | None:
+    """The operating point of ``images`` (one per frame number in ``frames``), every person and false positive
+    sorted by kind. ``region_of`` maps foot points (N, 2) to region names (None: outside every region).
+    None when there are no detections."""
+    evaluation = evaluate(list(images))
+    best = operating_threshold(evaluation)
+    if best is None:
+        return None
+    threshold = float(evaluation.scores[best])
+    people: list[PersonOutcome] = []
+    false_positives: list[FalsePositive] = []
+    for image, frame in zip(images, frames, strict=True):
+        keep = image.scores >= threshold
+        boxes, scores = image.boxes[keep], image.scores[keep]
+        truth = np.asarray(image.truth_boxes, np.float64).reshape(-1, 4)
+        pairs = evaluate([ImageResult(truth, boxes, scores, truth_ignore=image.truth_ignore)]).matches[0]
+        matched_truth = {t: d for t, d in pairs}
+        matched_detections = set(matched_truth.values())
+        found = np.isin(np.arange(len(truth)), list(matched_truth))
+        iou = box_iou(truth, boxes)  # (people, detections)
+        feet = np.column_stack([(truth[:, 0] + truth[:, 2]) / 2, truth[:, 3]])
+        regions = region_of(feet) if region_of is not None and len(truth) else [None] * len(truth)
+        in_group = grouped(truth)
+        ignored = image.ignored()
+        for index, box in enumerate(truth):
+            if ignored[index]:
+                continue
+            overlaps = iou[index] if len(boxes) else np.zeros(0)
+            best_iou = float(overlaps.max(initial=0.0))
+            if found[index]:
+                outcome, nearest, another = "found", None, False
+            elif best_iou >= NEAR_IOU:
+                nearest_index = int(np.argmax(overlaps))
+                outcome, nearest, another = "near miss", boxes[nearest_index], nearest_index in matched_detections
+            else:
+                outcome, nearest, another = "missed", None, False
+            people.append(PersonOutcome(int(frame), box, outcome, best_iou, bool(in_group[index]), regions[index],
+                                        nearest, another))
+        for detection, (box, score) in enumerate(zip(boxes, scores, strict=True)):
+            if detection in matched_detections:
+                continue
+            overlaps = iou[:, detection] if len(truth) else np.zeros(0)
+            if np.any(ignored & (overlaps >= IOU_THRESHOLD)):
+                continue  # someone we do not ask for, as in the AP
+            kind = _false_positive_kind(box, truth, overlaps, found)
+            false_positives.append(FalsePositive(int(frame), box, float(score), kind))
+    return MissAnalysis(threshold, float(evaluation.precision[best]), float(evaluation.recall[best]), people,
+                        false_positives)
+
+
+def region_lookup(areas: Mapping[str, dict]) -> Callable[[np.ndarray], list[str | None]]:
+    """A ``region_of`` for :func:`analyse_misses` from regions' owned image areas (GeoJSON, as a bundle's manifest
+    holds them): the first region holding each point."""
+    def region_of(points: np.ndarray) -> list[str | None]:
+        names: list[str | None] = [None] * len(points)
+        for name, area in areas.items():
+            for index in np.nonzero(in_area(points, area))[0]:
+                names[index] = names[index] or name
+        return names
+    return region_of
