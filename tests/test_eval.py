@@ -24,12 +24,14 @@ YOLO_SIZE = 64
 
 def _yolo_model(path) -> None:
     """A YOLO-pose style model (1, 56, N) that always reports TRUE_BOX (letterboxed into 64x64: scale 0.5, padded
-    16 px at the top), a weaker near-duplicate of it and a box below the confidence floor."""
+    16 px at the top) with its keypoints at the box centre, a weaker near-duplicate of it and a box below the
+    confidence floor."""
     scale, pad_y = 0.5, 16
     cx, cy = (TRUE_BOX[0] + TRUE_BOX[2]) / 2 * scale, (TRUE_BOX[1] + TRUE_BOX[3]) / 2 * scale + pad_y
     width, height = (TRUE_BOX[2] - TRUE_BOX[0]) * scale, (TRUE_BOX[3] - TRUE_BOX[1]) * scale
     rows = np.zeros((3, 56), np.float32)
     rows[0, :5] = cx, cy, width, height, 0.9
+    rows[0, 5:] = np.tile([cx, cy, 0.9], 17)  # every keypoint at the box centre, confident
     rows[1, :5] = cx + 0.5, cy, width, height, 0.5
     rows[2, :5] = 5, 5, 4, 4, 0.0001
     constant = helper.make_tensor("rows", TensorProto.FLOAT, (1, 56, 3), rows.T.ravel())
@@ -57,9 +59,11 @@ def test_mot_boxes_are_read_per_frame_and_bad_lines_named(tmp_path):
 def test_a_yolo_pose_model_is_letterboxed_and_suppressed(tmp_path):
     _yolo_model(tmp_path / "yolo.onnx")
     detector = YoloPoseOnnx(tmp_path / "yolo.onnx")
-    boxes, scores = detector(np.zeros((INPUT_SIZE[1], INPUT_SIZE[0], 3), np.uint8))
+    boxes, scores, keypoints = detector(np.zeros((INPUT_SIZE[1], INPUT_SIZE[0], 3), np.uint8))
     assert detector.size == YOLO_SIZE and len(boxes) == 1
     assert np.allclose(boxes[0], TRUE_BOX, atol=1e-3) and scores[0] == pytest.approx(0.9)
+    assert keypoints.shape == (1, 17, 3)  # mapped back to frame pixels like the boxes
+    assert np.allclose(keypoints[0, :, :2], (TRUE_BOX[:2] + TRUE_BOX[2:]) / 2, atol=1e-3)
 
 
 def test_non_max_suppression_keeps_the_best_of_each_overlap():
@@ -71,7 +75,8 @@ def test_non_max_suppression_keeps_the_best_of_each_overlap():
 def test_hog_finds_pets_people_with_boxes_shrunk_to_the_person(pets_data):
     frame = next(iter(FrameSource(pets_data / "vtest.avi", FrameRange(1, 1)))).image
     truth = read_mot_boxes(pets_data / "gt_dev_frames_0001-0400.txt")[1]
-    boxes, scores = HogPeopleDetector()(frame)
+    boxes, scores, keypoints = HogPeopleDetector()(frame)
+    assert keypoints is None
     assert len(boxes) == len(scores) > 0
     width, height = boxes[:, 2] - boxes[:, 0], boxes[:, 3] - boxes[:, 1]
     assert np.allclose(width / height, 32 / 96, rtol=0.05)  # 16 px off each side of the (rounded) 64x128 window
@@ -94,14 +99,20 @@ def test_vc_eval_scores_every_detector_and_draws_the_result(bundle, tmp_path):
     _yolo_model(tmp_path / "yolo.onnx")
     output = tmp_path / "eval"
     assert vc_eval([str(bundle), "--video", str(video), "--gt", str(truth), "-o", str(output), "--threads", "1",
-                    "--external", str(tmp_path / "yolo.onnx"), "--external-name", "yolo", "--quiet"]) == 0
+                    "--external", str(tmp_path / "yolo.onnx"), "--external-name", "yolo",
+                    "--external", str(tmp_path / "yolo.onnx"), "--external-name", "yolo again", "--quiet"]) == 0
     metrics = json.loads((output / "metrics.json").read_text())
     assert metrics["frames"]["count"] == 3  # the annotated range, 1-3
     detectors = metrics["detectors"]
-    assert set(detectors) == {"visual compiler", "HOG (OpenCV, real photos)", "yolo"}
+    assert set(detectors) == {"visual compiler", "HOG (OpenCV, real photos)", "yolo", "yolo again"}
     assert detectors["yolo"]["ap50"] == 1.0 and detectors["yolo"]["ground_truth"] == 3
     assert all(0.0 <= d["ap50"] <= 1.0 and d["ms_per_frame"]["median"] > 0 for d in detectors.values())
-    for name in ("precision_recall.png", "contact_sheet.png", "detections.jsonl"):
+    # The bundle's pose and the second model's against the first: a model agrees with itself everywhere.
+    agreement = metrics["pose_agreement"]
+    assert agreement["reference"] == "yolo" and set(agreement["agreement"]) == {"visual compiler", "yolo again"}
+    assert agreement["agreement"]["yolo again"]["overall"] == 1.0
+    assert agreement["agreement"]["yolo again"]["people"] == 3
+    for name in ("precision_recall.png", "contact_sheet.png", "detections.jsonl", "pose_agreement.png"):
         assert (output / name).stat().st_size > 0
 
 

@@ -1,17 +1,19 @@
 """Detectors trained on real photos, run on the same frames as a bundle so that vc-eval has something to compare
-with. Each maps an (H, W, 3) uint8 RGB frame to (boxes (N, 4) [x0, y0, x1, y1], scores (N,)).
+with. Each maps an (H, W, 3) uint8 RGB frame to :class:`Detections` in frame pixels.
 
 - :class:`HogPeopleDetector`: OpenCV's HOG + linear SVM people detector (Dalal & Triggs, CVPR 2005, trained on
   the INRIA person photos). Its 64x128 window holds a person about 96 px tall with a 16 px margin on every side,
   so people smaller than that are missed unless the frame is upscaled, and its raw window boxes are too large to
   reach IoU 0.5 with a tight box: the box returned is the window shrunk by that margin.
 - :class:`YoloPoseOnnx`: any ONNX model with YOLO-pose style output (Ultralytics' export: (1, 5 + 3K, N) or
-  (1, N, 5 + 3K) rows of cx, cy, w, h, person confidence, K keypoints), fed a letterboxed square input.
+  (1, N, 5 + 3K) rows of cx, cy, w, h, person confidence, K keypoints), fed a letterboxed square input. Its
+  keypoints (x, y, confidence) come back with the boxes: what ``vc-eval`` compares the bundle's pose with.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import NamedTuple
 
 import cv2
 import numpy as np
@@ -25,6 +27,14 @@ HOG_WINDOW = (64, 128)
 HOG_MARGIN = 16
 
 
+class Detections(NamedTuple):
+    """People found in one frame, in frame pixels."""
+
+    boxes: np.ndarray  # (N, 4) x0, y0, x1, y1
+    scores: np.ndarray  # (N,)
+    keypoints: np.ndarray | None = None  # (N, K, 3) x, y, confidence; None from a detector without pose
+
+
 class HogPeopleDetector:
     """OpenCV's default people detector over an image pyramid, on the frame upscaled ``upscale`` times."""
 
@@ -33,17 +43,17 @@ class HogPeopleDetector:
         self.hog = cv2.HOGDescriptor()
         self.hog.setSVMDetector(cv2.HOGDescriptor_getDefaultPeopleDetector())
 
-    def __call__(self, frame: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def __call__(self, frame: np.ndarray) -> Detections:
         image = cv2.resize(frame, None, fx=self.upscale, fy=self.upscale, interpolation=cv2.INTER_LINEAR) \
             if self.upscale != 1.0 else frame
         rectangles, weights = self.hog.detectMultiScale(image, hitThreshold=self.hit_threshold, winStride=(8, 8),
                                                         padding=(16, 16), scale=self.scale_step)
         if len(rectangles) == 0:
-            return np.zeros((0, 4)), np.zeros(0)
+            return Detections(np.zeros((0, 4)), np.zeros(0))
         x, y, width, height = np.asarray(rectangles, np.float64).T
         margin_x, margin_y = width * HOG_MARGIN / HOG_WINDOW[0], height * HOG_MARGIN / HOG_WINDOW[1]
         boxes = np.column_stack([x + margin_x, y + margin_y, x + width - margin_x, y + height - margin_y])
-        return boxes / self.upscale, np.asarray(weights, np.float64).ravel()
+        return Detections(boxes / self.upscale, np.asarray(weights, np.float64).ravel())
 
 
 def non_max_suppression(boxes: np.ndarray, scores: np.ndarray, iou_threshold: float) -> np.ndarray:
@@ -69,7 +79,7 @@ def _attributes_first(shape: tuple[int, int]) -> bool:
 
 
 class YoloPoseOnnx:
-    """A YOLO-pose ONNX model as a person detector (boxes and person confidence; keypoints are not scored)."""
+    """A YOLO-pose ONNX model: boxes, person confidence and keypoints."""
 
     def __init__(self, path: Path, input_size: int | None = None, threads: int | None = None,
                  min_score: float = 0.001, iou_threshold: float = 0.7, max_detections: int = 300) -> None:
@@ -98,7 +108,7 @@ class YoloPoseOnnx:
             frame, (new_width, new_height), interpolation=cv2.INTER_LINEAR)
         return canvas.transpose(2, 0, 1)[None].astype(np.float32) / 255.0, scale, pad
 
-    def __call__(self, frame: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def __call__(self, frame: np.ndarray) -> Detections:
         tensor, scale, pad = self._letterbox(frame)
         output = np.asarray(self.session.run(None, {self.input_name: tensor})[0])[0]
         rows = output.T if _attributes_first(output.shape) else output  # (N, 5 + 3K)
@@ -106,4 +116,6 @@ class YoloPoseOnnx:
         centre, size = rows[:, :2], rows[:, 2:4]
         boxes = (np.concatenate([centre - size / 2, centre + size / 2], axis=1) - np.tile(pad, 2)) / scale
         keep = non_max_suppression(boxes, rows[:, 4], self.iou_threshold)[:self.max_detections]
-        return boxes[keep], rows[keep, 4].astype(np.float64)
+        keypoints = rows[keep, 5:].reshape(len(keep), -1, 3).astype(np.float64)
+        keypoints[:, :, :2] = (keypoints[:, :, :2] - pad) / scale
+        return Detections(boxes[keep], rows[keep, 4].astype(np.float64), keypoints)

@@ -15,9 +15,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from vc.deploy.agreement import PoseAgreement  # noqa: E402
 from vc.deploy.metrics import Evaluation  # noqa: E402
 from vc.deploy.misses import NEAR_IOU, OUTCOMES, MissAnalysis  # noqa: E402
 from vc.io import atomic_path  # noqa: E402
+from vc.keypoints import COCO_KEYPOINTS  # noqa: E402
 
 
 def _save(figure: plt.Figure, destination: Path) -> None:
@@ -149,5 +151,24 @@ def plot_miss_analysis(analysis: MissAnalysis, destination: Path, title: str) ->
     false_axis.set(ylabel="detections", title=f"false positives by kind: {len(analysis.false_positives)}")
     figure.suptitle(f"{title} — operating point: score >= {analysis.score_threshold:.2f}, precision "
                     f"{analysis.precision:.3f}, recall {analysis.recall:.3f}", fontsize=10)
+    figure.tight_layout()
+    _save(figure, destination)
+
+
+def plot_pose_agreement(agreements: Mapping[str, PoseAgreement], destination: Path, title: str) -> None:
+    """Per COCO keypoint, the share of a reference pose model's confident keypoints each detector agrees with
+    (:mod:`vc.deploy.agreement`), one bar per detector, its overall share in the legend."""
+    figure, axes = plt.subplots(figsize=(10, 5))
+    width = 0.8 / max(len(agreements), 1)
+    positions = np.arange(len(COCO_KEYPOINTS))
+    for index, (name, agreement) in enumerate(agreements.items()):
+        values = [np.nan if value is None else value for value in agreement.per_keypoint().values()]
+        overall = "n/a" if agreement.overall is None else f"{agreement.overall:.2f}"
+        axes.bar(positions + (index - (len(agreements) - 1) / 2) * width, values, width,
+                 label=f"{name}: {overall} overall, {agreement.people} people")
+    axes.set_xticks(positions, [name.replace("_", " ") for name in COCO_KEYPOINTS], rotation=45, ha="right")
+    axes.set(ylim=(0, 1.05), ylabel="agreement", title=title)
+    axes.grid(alpha=0.3, axis="y")
+    axes.legend(fontsize=8, loc="lower left")
     figure.tight_layout()
     _save(figure, destination)

@@ -1,7 +1,7 @@
 """``vc-eval``: a bundle on real video frames against ground-truth boxes, beside detectors trained on real photos.
 
     vc-eval BUNDLE --video V --gt GT.txt -o OUT [--frames first:last:step] [--no-hog] [--hog-upscale F]
-            [--external MODEL.onnx [--external-size S] [--external-name NAME]] [--threads N] [--quiet]
+            [--external MODEL.onnx [--external-name NAME]]... [--external-size S] [--threads N] [--quiet]
 
 For every selected frame each detector runs and is timed: the bundle (through :mod:`vc.deploy.runtime`, as the
 appliance runs it), OpenCV's HOG people detector, and optionally any YOLO-pose style ONNX model. Writes
@@ -29,8 +29,9 @@ import numpy as np
 from tqdm import tqdm
 
 from vc import __version__
-from vc.baselines import HogPeopleDetector, YoloPoseOnnx
+from vc.baselines import Detections, HogPeopleDetector, YoloPoseOnnx
 from vc.cli.common import handles_input_errors, positive_int
+from vc.deploy.agreement import AGREEMENT_HEAD_SIZES, REFERENCE_CONFIDENCE, PoseAgreement, pose_agreement
 from vc.deploy.metrics import Evaluation, ImageResult, evaluate
 from vc.deploy.misses import MissAnalysis, analyse_misses, region_lookup
 from vc.deploy.runtime import Person, Runtime
@@ -39,7 +40,7 @@ from vc.errors import InputError
 from vc.frames import FrameRange, FrameSource
 from vc.io import atomic_directory, write_image, write_json
 from vc.mot import read_mot_boxes
-from vc.plots import plot_miss_analysis, plot_precision_recall
+from vc.plots import plot_miss_analysis, plot_pose_agreement, plot_precision_recall
 
 OURS = "visual compiler"
 SHEET_FRAMES = 8
@@ -56,9 +57,12 @@ def _parser() -> argparse.ArgumentParser:
                         help="first:last:step, 1-based and inclusive (default: every annotated frame)")
     parser.add_argument("--no-hog", action="store_true", help="skip the HOG baseline (about 1 s per frame)")
     parser.add_argument("--hog-upscale", type=float, default=2.0, help="HOG runs on the frame upscaled this much")
-    parser.add_argument("--external", type=Path, help="a YOLO-pose style ONNX model to compare with")
-    parser.add_argument("--external-size", type=positive_int, help="its square input size (if dynamic)")
-    parser.add_argument("--external-name", default=None, help="its label (default: the file name)")
+    parser.add_argument("--external", type=Path, action="append", default=[],
+                        help="a YOLO-pose style ONNX model to compare with (repeatable); the first is the reference "
+                             "the bundle's pose is compared with, a second shows the comparison's ceiling")
+    parser.add_argument("--external-size", type=positive_int, help="their square input size (if dynamic)")
+    parser.add_argument("--external-name", action="append", default=[],
+                        help="a label per --external, in order (default: the file name and input size)")
     parser.add_argument("--threads", type=positive_int, default=None, help="threads per detector (default: all)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     return parser
@@ -71,9 +75,10 @@ class _Record:
     images: list[ImageResult] = field(default_factory=list)
     milliseconds: list[float] = field(default_factory=list)
 
-    def add(self, truth: np.ndarray, boxes: np.ndarray, scores: np.ndarray, seconds: float) -> None:
-        self.images.append(ImageResult(truth_boxes=truth, boxes=np.asarray(boxes).reshape(-1, 4),
-                                       scores=np.asarray(scores, np.float64).ravel()))
+    def add(self, truth: np.ndarray, detections: Detections, seconds: float) -> None:
+        self.images.append(ImageResult(truth_boxes=truth, boxes=np.asarray(detections.boxes).reshape(-1, 4),
+                                       scores=np.asarray(detections.scores, np.float64).ravel(),
+                                       keypoints=detections.keypoints))
         self.milliseconds.append(seconds * 1e3)
 
     def summary(self, evaluation: Evaluation) -> dict:
@@ -87,9 +92,14 @@ def _detectors(args: argparse.Namespace) -> dict:
     detectors = {}
     if not args.no_hog:
         detectors["HOG (OpenCV, real photos)"] = HogPeopleDetector(args.hog_upscale)
-    if args.external:
-        model = YoloPoseOnnx(args.external, args.external_size, args.threads)
-        detectors[args.external_name or f"{args.external.name} @{model.size}"] = model
+    if len(args.external_name) > len(args.external):
+        raise InputError(None, "--external-name", f"{len(args.external_name)} names for {len(args.external)} models")
+    for index, path in enumerate(args.external):
+        model = YoloPoseOnnx(path, args.external_size, args.threads)
+        name = args.external_name[index] if index < len(args.external_name) else f"{path.name} @{model.size}"
+        if name in detectors or name == OURS:
+            raise InputError(path, "--external-name", f"the label {name!r} is taken; give each model its own")
+        detectors[name] = model
     return detectors
 
 
@@ -99,6 +109,17 @@ def _check_selection(source: FrameSource, truth: dict[int, np.ndarray], gt_path:
     if beyond and source.count > source.frames.count(last_annotated):
         raise InputError(gt_path, "frames", f"the selection reaches past the last annotated frame "
                                             f"({last_annotated}); select with --frames first:{last_annotated}:step")
+
+
+def _pose_agreements(records: dict[str, _Record], others: list[str]) -> dict[str, dict[str, PoseAgreement]]:
+    """{reference: {detector: agreement}}: the bundle and every other pose model against the first external pose
+    model (none without one)."""
+    with_pose = [name for name in others if any(image.keypoints is not None for image in records[name].images)]
+    if not with_pose:
+        return {}
+    reference = with_pose[0]
+    return {reference: {name: pose_agreement(records[name].images, records[reference].images)
+                        for name in [OURS, *with_pose[1:]]}}
 
 
 def _rates(rates: dict) -> str:
@@ -159,19 +180,23 @@ def main(argv: list[str] | None = None) -> int:
         boxes_truth = truth.get(frame.number, np.zeros((0, 4)))
         start = time.perf_counter()
         people: list[Person] = runtime(frame.image)
-        records[OURS].add(boxes_truth, np.array([p.box for p in people]), np.array([p.score for p in people]),
-                          time.perf_counter() - start)
+        seconds = time.perf_counter() - start
+        records[OURS].add(boxes_truth, Detections(np.array([p.box for p in people]).reshape(-1, 4),
+                                                  np.array([p.score for p in people]),
+                                                  np.array([p.keypoints for p in people]).reshape(-1, 17, 3)),
+                          seconds)
         lines.append({"frame": frame.number, "people": [person.to_dict() for person in people]})
         people_by_frame[frame.number] = people
         for name, detector in others.items():
             start = time.perf_counter()
-            boxes, scores = detector(frame.image)
-            records[name].add(boxes_truth, boxes, scores, time.perf_counter() - start)
+            detections = detector(frame.image)
+            records[name].add(boxes_truth, detections, time.perf_counter() - start)
         if index in sheet_numbers:
             sheet.append(draw_people(frame.image, people, truth_boxes=boxes_truth))
     evaluations = {name: evaluate(record.images) for name, record in records.items()}
     areas = {entry.name: entry.owned_image_area for entry in runtime.bundle.regions}
     misses = analyse_misses(records[OURS].images, list(people_by_frame), region_lookup(areas))
+    agreements = _pose_agreements(records, list(others))
     metrics = {
         "bundle": str(args.bundle), "scene": runtime.bundle.manifest["scene"], "video": str(args.video),
         "ground_truth": str(args.gt), "frames": {"first": args.frames.first, "last": args.frames.last,
@@ -179,6 +204,11 @@ def main(argv: list[str] | None = None) -> int:
         "threads": args.threads, "iou_threshold": 0.5,
         "detectors": {name: record.summary(evaluations[name]) for name, record in records.items()},
         "operating_point": misses.summary() if misses is not None else {},
+        **({"pose_agreement": {"reference": next(iter(agreements)), "reference_confidence": REFERENCE_CONFIDENCE,
+                               "within_head_sizes": AGREEMENT_HEAD_SIZES,
+                               "agreement": {name: agreement.to_dict()
+                                             for name, agreement in agreements[next(iter(agreements))].items()}}}
+           if agreements else {}),
     }
     with atomic_directory(args.output) as staging:
         write_json(staging / "metrics.json", metrics)
@@ -186,6 +216,11 @@ def main(argv: list[str] | None = None) -> int:
                               f"{metrics['scene']}: {source.count} real frames, AP at IoU 0.5")
         write_image(staging / "contact_sheet.png", contact_sheet(sheet))
         (staging / "detections.jsonl").write_text("".join(json.dumps(line) + "\n" for line in lines))
+        if agreements:
+            reference = next(iter(agreements))
+            plot_pose_agreement(agreements[reference], staging / "pose_agreement.png",
+                                f"{metrics['scene']}: keypoints within {AGREEMENT_HEAD_SIZES} head sizes of "
+                                f"{reference}'s confident ones (conf >= {REFERENCE_CONFIDENCE})")
         if misses is not None:
             _write_miss_analysis(staging, misses, args.video, args.frames, people_by_frame,
                                  f"{metrics['scene']}: {source.count} real frames")
@@ -195,4 +230,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f"  {name:32s} AP50 {summary['ap50']:.3f}   {summary['ms_per_frame']['median']:8.1f} ms/frame")
     if misses is not None:
         print(_miss_summary(misses))
+    for reference, by_name in agreements.items():
+        for name, agreement in by_name.items():
+            overall = "n/a" if agreement.overall is None else f"{agreement.overall:.3f}"
+            print(f"  pose agreement with {reference}: {name} {overall} ({agreement.people} people)")
     return 0

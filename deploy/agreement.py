@@ -1,0 +1,100 @@
+"""Pose on real people without keypoint ground truth: agreement with a reference pose model — a proxy, stated as one.
+
+Real surveillance frames come with boxes, not keypoints. What can be measured is how often the bundle puts a
+keypoint where a pose model trained on real photos (a YOLO-pose ONNX model through ``vc-eval --external``) puts
+it:
+
+1. Each detector keeps its detections at its own operating point (the score threshold of best F1,
+   :func:`vc.deploy.misses.operating_threshold`) and is matched to the ground-truth boxes at IoU >= 0.5
+   (:func:`vc.deploy.metrics.evaluate`'s greedy matching).
+2. On every ground-truth person both detectors found, each keypoint the reference is confident of (confidence >=
+   :data:`REFERENCE_CONFIDENCE`) is compared with the other detector's: it agrees when within
+   :data:`AGREEMENT_HEAD_SIZES` head sizes, a head size being 1/8 of the ground-truth box height (PCKh's head
+   size in :mod:`vc.deploy.metrics`).
+3. The share that agrees, per COCO keypoint and overall, is the agreement.
+
+The reference has errors of its own, and COCO's annotators (whose convention a COCO-trained model learns) mark
+hips and shoulders away from the anatomical joint centres a rendered skeleton has: agreement is not accuracy. A
+second reference (the same family at another input size) measured against the first shows the ceiling the proxy
+allows.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from vc.deploy.metrics import HEAD_FRACTION_OF_HEIGHT, ImageResult, evaluate
+from vc.deploy.misses import operating_threshold
+from vc.keypoints import COCO_KEYPOINTS
+
+#: The reference's keypoints at or above this confidence are compared.
+REFERENCE_CONFIDENCE = 0.5
+#: A keypoint agrees within this many head sizes of the reference's.
+AGREEMENT_HEAD_SIZES = 0.5
+
+
+@dataclass(frozen=True)
+class PoseAgreement:
+    """Keypoints compared and agreeing, per COCO keypoint, over the people both detectors found."""
+
+    compared: np.ndarray  # (17,) int
+    agreeing: np.ndarray  # (17,) int
+    people: int
+
+    @property
+    def overall(self) -> float | None:
+        total = int(self.compared.sum())
+        return float(self.agreeing.sum() / total) if total else None
+
+    def per_keypoint(self) -> dict[str, float | None]:
+        return {name: float(agree / compared) if compared else None
+                for name, agree, compared in zip(COCO_KEYPOINTS, self.agreeing, self.compared, strict=True)}
+
+    def to_dict(self) -> dict:
+        overall = self.overall
+        return {"overall": None if overall is None else round(overall, 4), "people": self.people,
+                "keypoints_compared": int(self.compared.sum()),
+                "per_keypoint": {name: None if value is None else round(value, 4)
+                                 for name, value in self.per_keypoint().items()}}
+
+
+def matched_people(images: Sequence[ImageResult]) -> list[dict[int, int]]:
+    """Per image, ground-truth index -> detection index of the people found at the operating point."""
+    evaluation = evaluate(list(images))
+    best = operating_threshold(evaluation)
+    if best is None:
+        return [{} for _ in images]
+    threshold = evaluation.scores[best]
+    matches = []
+    for image in images:
+        kept = np.nonzero(image.scores >= threshold)[0]
+        pairs = evaluate([ImageResult(image.truth_boxes, image.boxes[kept], image.scores[kept],
+                                      truth_ignore=image.truth_ignore)]).matches[0]
+        matches.append({truth: int(kept[detection]) for truth, detection in pairs})
+    return matches
+
+
+def pose_agreement(candidate: Sequence[ImageResult], reference: Sequence[ImageResult]) -> PoseAgreement:
+    """How often ``candidate``'s keypoints agree with ``reference``'s (both per frame, over the same ground truth,
+    with ``keypoints`` (M, 17, 2+) of x, y[, confidence]; see the module docstring)."""
+    if len(candidate) != len(reference):
+        raise ValueError(f"{len(candidate)} frames against {len(reference)}: both must cover the same frames")
+    compared = np.zeros(len(COCO_KEYPOINTS), int)
+    agreeing = np.zeros(len(COCO_KEYPOINTS), int)
+    people = 0
+    for ours, theirs, our_matches, their_matches in zip(candidate, reference, matched_people(candidate),
+                                                        matched_people(reference), strict=True):
+        for truth in sorted(set(our_matches) & set(their_matches)):
+            box = ours.truth_boxes[truth]
+            head = HEAD_FRACTION_OF_HEIGHT * (box[3] - box[1])
+            our_keypoints = np.asarray(ours.keypoints[our_matches[truth]], np.float64)
+            their_keypoints = np.asarray(theirs.keypoints[their_matches[truth]], np.float64)
+            confident = their_keypoints[:, 2] >= REFERENCE_CONFIDENCE
+            distance = np.linalg.norm(our_keypoints[:, :2] - their_keypoints[:, :2], axis=1)
+            compared += confident
+            agreeing += confident & (distance <= AGREEMENT_HEAD_SIZES * head)
+            people += 1
+    return PoseAgreement(compared, agreeing, people)

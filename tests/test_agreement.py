@@ -1,0 +1,44 @@
+"""Pose agreement with a reference pose model (vc.deploy.agreement): the proxy for pose on real people."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from vc.deploy.agreement import pose_agreement
+from vc.deploy.metrics import ImageResult
+
+TRUTH = np.array([[0, 0, 20, 80], [100, 0, 120, 80]], float)  # 80 px tall: a head size is 10 px
+
+
+def _keypoints(x: float, confidence: float = 0.9) -> np.ndarray:
+    keypoints = np.zeros((17, 3))
+    keypoints[:, 0], keypoints[:, 1], keypoints[:, 2] = x, np.linspace(5, 75, 17), confidence
+    return keypoints
+
+
+def test_keypoints_agree_within_half_a_head_size_of_the_references_confident_ones():
+    reference_keypoints = np.stack([_keypoints(10.0), _keypoints(110.0)])
+    reference_keypoints[0, :4, 2] = 0.2  # the reference is unsure of four keypoints: they are not compared
+    reference = [ImageResult(TRUTH, TRUTH.copy(), np.array([0.9, 0.8]), keypoints=reference_keypoints)]
+    ours = _keypoints(10.0)
+    ours[4:8, 0] += 4.9  # within 0.5 head sizes (5 px)
+    ours[8:10, 0] += 5.1  # beyond
+    # Only the first person is found by both: ours misses the second one.
+    candidate = [ImageResult(TRUTH, TRUTH[:1].copy(), np.array([0.7]), keypoints=ours[None])]
+    agreement = pose_agreement(candidate, reference)
+    assert agreement.people == 1 and agreement.compared.sum() == 13
+    assert agreement.overall == pytest.approx(11 / 13)
+    per_keypoint = agreement.per_keypoint()
+    assert per_keypoint["nose"] is None and per_keypoint["left_shoulder"] == 1.0
+    assert per_keypoint["right_elbow"] == 0.0 and per_keypoint["left_wrist"] == 0.0
+
+
+def test_nobody_found_by_both_has_no_agreement():
+    reference = [ImageResult(TRUTH, np.zeros((0, 4)), np.zeros(0), keypoints=np.zeros((0, 17, 3)))]
+    candidate = [ImageResult(TRUTH, TRUTH.copy(), np.array([0.9, 0.9]), keypoints=np.zeros((2, 17, 3)))]
+    agreement = pose_agreement(candidate, reference)
+    assert agreement.people == 0 and agreement.overall is None
+    assert agreement.to_dict()["overall"] is None
+    with pytest.raises(ValueError, match="same frames"):
+        pose_agreement(candidate, reference * 2)
