@@ -13,7 +13,7 @@ import io
 import json
 import zipfile
 from dataclasses import dataclass
-from pathlib import Path
+from pathlib import Path, PurePosixPath, PureWindowsPath
 
 import numpy as np
 
@@ -73,7 +73,19 @@ class _Files:
         elif not path.is_dir():
             raise InputError(path, "", "bundle not found (expected a folder or a .zip)")
 
+    def _check_member(self, name: str, field: str) -> None:
+        """A member is named by a relative path inside the bundle: an absolute path, a ``..`` step or (in a folder)
+        a symbolic link leading out would let a rewritten manifest run a model from anywhere on the appliance."""
+        parts = PurePosixPath(name.replace("\\", "/")).parts
+        if not name or PurePosixPath(name).is_absolute() or PureWindowsPath(name).drive or ".." in parts:
+            raise InputError(self.path, field, f"{name!r} is not a path inside the bundle (absolute, or with '..')")
+        if self.archive is None:
+            root = self.path.resolve()
+            if not (self.path / name).resolve().is_relative_to(root):
+                raise InputError(self.path, field, f"{name} leads outside the bundle (a symbolic link)")
+
     def read(self, name: str, field: str) -> bytes:
+        self._check_member(name, field)
         try:
             if self.archive is not None:
                 return self.archive.read(name)

@@ -2,7 +2,7 @@
 
 1. People are the local maxima of the centre map above ``centre_threshold`` (3x3 neighbourhood), refined to
    sub-cell precision by a parabola through each peak and its neighbours. A peak closer than
-   :data:`MIN_CENTRE_SEPARATION` expected heights to a stronger one is that person's blurred peak, not another.
+   ``min_centre_separation`` expected heights to a stronger one is that person's blurred peak, not another.
 2. Each keypoint is the maximum of its map weighted by a Gaussian prior around where that keypoint sits on an
    upright person (:data:`UPRIGHT_OFFSETS`, scaled by the person's expected height): a neighbour's ankle, even
    if nearer to this centre, loses to this person's own. At most ``max_people`` peaks are decoded. Pairs come
@@ -37,18 +37,13 @@ from vc.deploy.heatmaps import (
 #: (surveillance views of pedestrians: heads up, feet down; the prior's width absorbs gait and lean).
 UPRIGHT_OFFSETS = np.array([-0.43, -0.45, -0.45, -0.44, -0.44, -0.32, -0.32, -0.15, -0.15, 0.0, 0.0,
                             0.02, 0.02, 0.25, 0.25, 0.46, 0.46])
-#: Fractions of a person's height: minimum box width, and the margin added around keypoints and mask.
-MIN_WIDTH_FRACTION = 0.25
-SIDE_MARGIN_FRACTION = 0.03
-#: A person's mask cells and box reach at most this far from the centre, in person heights (sideways, up/down):
-#: mask blobs and keypoints beyond belong to someone else or to nobody, and must not stretch the box.
-REACH_FRACTION = (0.3, 0.6)
-#: Centre peaks closer than this (in person heights) to a stronger one are the same person.
-MIN_CENTRE_SEPARATION = 0.15
 
 
 @dataclass(frozen=True)
 class DecodeConfig:
+    """How heat maps become people; a bundle's manifest carries it per region (fields it lacks take these
+    defaults). Lengths in person heights are fractions of the expected height at the person's centre."""
+
     stride: int = 4
     centre_threshold: float = 0.3
     keypoint_threshold: float = 0.2  # keypoints below this confidence do not shape the box
@@ -56,6 +51,13 @@ class DecodeConfig:
     search_sigma: float = 0.25  # width of a keypoint's prior around its upright position, in person heights
     default_height_px: float = 80.0  # expected height when no map of it is given
     max_people: int = 100  # the strongest centre peaks decoded; bounds the time a noisy frame can take
+    min_centre_separation: float = 0.15  # closer centre peaks (person heights) are one person's
+    # A person's mask cells and box reach at most this far from the centre, in person heights (sideways, up and
+    # down): mask blobs and keypoints beyond belong to someone else or to nobody, and must not stretch the box.
+    reach_sideways: float = 0.3
+    reach_vertical: float = 0.6
+    min_width: float = 0.25  # the narrowest box, in person heights
+    side_margin: float = 0.03  # added around the keypoints and mask that set the box's width, in person heights
 
 
 @dataclass
@@ -136,7 +138,7 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
         config.default_height_px if expected_height_px is None
         else float(expected_height_px[int(round(y)), int(round(x))]) for x, y in centres_cells])
     heights_cells = heights_px / stride
-    keep = _separated(centres_cells, heights_cells)
+    keep = _separated(centres_cells, heights_cells, config.min_centre_separation)
     peaks, centres_cells = [peaks[i] for i in keep], centres_cells[keep]
     heights_px, heights_cells = heights_px[keep], heights_cells[keep]
 
@@ -153,8 +155,8 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
             row, column = int(round(centre_cells[1])), int(round(centre_cells[0]))
             # A negative handedness: the pair's image-left member is the person's right one.
             keypoints = swap_pairs(keypoints, heatmaps[HANDEDNESS_CHANNELS, row, column] < 0)
-        within_reach = ((np.abs(columns - centre_cells[0]) <= REACH_FRACTION[0] * heights_cells[index])
-                        & (np.abs(rows - centre_cells[1]) <= REACH_FRACTION[1] * heights_cells[index]))
+        within_reach = ((np.abs(columns - centre_cells[0]) <= config.reach_sideways * heights_cells[index])
+                        & (np.abs(rows - centre_cells[1]) <= config.reach_vertical * heights_cells[index]))
         mask_cells = foreground & (owner == index) & within_reach
         centre = cells_to_input(centre_cells, stride)
         people.append(DecodedPerson(score=score, centre=centre, keypoints=keypoints,
@@ -198,13 +200,13 @@ def _keypoints(keypoint_maps: np.ndarray, centre_cells: np.ndarray, height_cells
     return keypoints
 
 
-def _separated(centres_cells: np.ndarray, heights_cells: np.ndarray) -> list[int]:
-    """Indices of the peaks (strongest first) that lie at least :data:`MIN_CENTRE_SEPARATION` expected heights
-    from every stronger peak kept: two centres closer than that are one person's blurred peak, not two people."""
+def _separated(centres_cells: np.ndarray, heights_cells: np.ndarray, separation: float) -> list[int]:
+    """Indices of the peaks (strongest first) that lie at least ``separation`` expected heights from every
+    stronger peak kept: two centres closer than that are one person's blurred peak, not two people."""
     kept: list[int] = []
     for index, centre in enumerate(centres_cells):
         distances = np.hypot(*(centre - centres_cells[kept]).T) if kept else np.empty(0)
-        if np.all(distances >= MIN_CENTRE_SEPARATION * heights_cells[kept]):
+        if np.all(distances >= separation * heights_cells[kept]):
             kept.append(index)
     return kept
 
@@ -213,13 +215,13 @@ def _box(centre: np.ndarray, height_px: float, keypoints: np.ndarray, mask_cells
          config: DecodeConfig) -> np.ndarray:
     """Expected height, centred on the centre; width from confident keypoints and mask (see module docstring)."""
     confident = keypoints[:, 2] >= config.keypoint_threshold
-    near = np.abs(keypoints[:, 0] - centre[0]) <= REACH_FRACTION[0] * height_px
+    near = np.abs(keypoints[:, 0] - centre[0]) <= config.reach_sideways * height_px
     xs = list(keypoints[confident & near, 0])
     if mask_cells.any():
         columns = np.nonzero(mask_cells.any(axis=0))[0]
         xs += list(cells_to_input(np.array([columns[0] - 0.5, columns[-1] + 0.5]), config.stride))
-    margin = SIDE_MARGIN_FRACTION * height_px
-    half_min = MIN_WIDTH_FRACTION * height_px / 2
+    margin = config.side_margin * height_px
+    half_min = config.min_width * height_px / 2
     x0 = min(min(xs, default=centre[0]) - margin, centre[0] - half_min)
     x1 = max(max(xs, default=centre[0]) + margin, centre[0] + half_min)
     return np.array([x0, centre[1] - height_px / 2, x1, centre[1] + height_px / 2])

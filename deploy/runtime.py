@@ -17,7 +17,7 @@ import numpy as np
 import onnxruntime as ort
 
 from vc.deploy.bundle import Bundle, RegionEntry, load_bundle
-from vc.deploy.decode import DecodedPerson, decode
+from vc.deploy.decode import DecodeConfig, DecodedPerson, decode
 from vc.errors import InputError
 
 
@@ -106,7 +106,11 @@ class RegionRunner:
         return self.origin + (np.asarray(xy, np.float64) + 0.5) / self.scale - 0.5
 
     def people(self, frame: np.ndarray) -> list[Person]:
-        decoded = decode(self.heatmaps(frame), self.entry.decode, self.entry.expected_height_px)
+        return self.people_in(self.heatmaps(frame))
+
+    def people_in(self, heatmaps: np.ndarray, config: DecodeConfig | None = None) -> list[Person]:
+        """The people this region owns in its heat maps, decoded with the bundle's settings or ``config``."""
+        decoded = decode(heatmaps, config or self.entry.decode, self.entry.expected_height_px)
         if not decoded:
             return []
         boxes = np.array([np.r_[self.to_frame(p.box[:2]), self.to_frame(p.box[2:])] for p in decoded])

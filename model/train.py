@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 import os
+import pickle
 import time
 from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
@@ -126,11 +127,19 @@ def checkpoint_path(run: Path, region: str) -> Path:
 
 
 def load_checkpoint(path: Path, scene_hash: str | None = None, region: str | None = None) -> Checkpoint:
-    """Read a checkpoint and check that it belongs to ``scene_hash`` and ``region`` (when given)."""
+    """Read a checkpoint and check that it belongs to ``scene_hash`` and ``region`` (when given).
+
+    Only tensors and plain data (dicts, lists, strings, numbers) are read (``weights_only``): unpickling anything
+    else could run code a hostile file brings, and a checkpoint this version writes holds nothing else."""
     try:
-        content = torch.load(path, map_location="cpu", weights_only=False)
+        content = torch.load(path, map_location="cpu", weights_only=True)
     except FileNotFoundError:
         raise InputError(path, "", "checkpoint not found") from None
+    except pickle.UnpicklingError as error:
+        found = str(error).split("Unsupported global: GLOBAL ", 1)[-1].split(" ", 1)[0] if "GLOBAL" in str(error) \
+            else "an object"
+        raise InputError(path, "", f"refused: it holds a Python object ({found}) beyond tensors and plain data, "
+                                   f"and loading it could run code") from None
     except Exception as error:  # torch raises many types for a damaged file
         raise InputError(path, "", f"not a readable checkpoint ({type(error).__name__}: {error})") from None
     if not isinstance(content, dict) or content.get("kind") != CHECKPOINT_KIND:
@@ -217,7 +226,7 @@ class RegionTrainer:
             "scene_camera": self.data.manifest.get("camera"),
             "dataset_settings": self.data.manifest["settings"], "train_config": self.config.to_dict(),
             "reference_height_m": self.reference_height_m, "step": self.step, "history": self.history,
-            "train_seconds": self.train_seconds, "versions": {"torch": torch.__version__},
+            "train_seconds": self.train_seconds, "versions": {"torch": str(torch.__version__)},
             "model": self.net.state_dict(), "optimizer": self.optimizer.state_dict(),
             "schedule": self.schedule.state_dict(),
         }

@@ -4,6 +4,7 @@ format), the runtime's isolation from torch and mitsuba, frame checks and region
 from __future__ import annotations
 
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -99,6 +100,40 @@ def test_a_bad_bundle_is_refused_before_loading(bundle, tmp_path, damage, messag
         load_bundle(copy)
 
 
+@pytest.mark.parametrize("member", ["/etc/hostname", "../outside.onnx", "models/../../outside.onnx", "link.onnx"])
+def test_a_bundle_member_outside_the_bundle_is_refused(bundle, tmp_path, member):
+    copy = Path(shutil.copytree(bundle, tmp_path / "copy"))
+    outside = tmp_path / "outside.onnx"
+    outside.write_bytes((copy / "models" / "r0.onnx").read_bytes())
+    (copy / "link.onnx").symlink_to(outside)
+    manifest = json.loads((copy / "manifest.json").read_text())
+    manifest["regions"][0]["model"] = member  # its hash still matches: only the name is hostile
+    (copy / "manifest.json").write_text(json.dumps(manifest))
+    with pytest.raises(InputError, match="not a path inside the bundle|leads outside the bundle"):
+        load_bundle(copy)
+
+
+def test_a_checkpoint_holding_code_is_refused_unrun(trained_run, tmp_path, capsys):
+    run = Path(shutil.copytree(trained_run, tmp_path / "run"))
+    checkpoint = torch.load(run / "checkpoints" / "r0.pt", weights_only=True)
+    marker = tmp_path / "ran"
+    checkpoint["history"] = _RunsCode(f"touch {marker}")
+    torch.save(checkpoint, run / "checkpoints" / "r0.pt")
+    assert vc_export([str(run), "-o", str(tmp_path / "bundle"), "--eval-samples", "0"]) == 2
+    assert "refused: it holds a Python object" in capsys.readouterr().err
+    assert not marker.exists() and not (tmp_path / "bundle").exists()
+
+
+class _RunsCode:
+    """What a hostile checkpoint holds: unpickling it runs a shell command."""
+
+    def __init__(self, command: str) -> None:
+        self.command = command
+
+    def __reduce__(self):
+        return os.system, (self.command,)
+
+
 def test_a_corrupted_zip_is_refused(trained_run, tmp_path):
     path = tmp_path / "bundle.zip"
     assert vc_export([str(trained_run), "-o", str(path), "--zip"]) == 0
@@ -192,7 +227,7 @@ def test_an_int8_bundle_records_every_precision_and_runs(trained_run, tmp_path):
 
 def test_int8_without_the_training_dataset_is_refused(trained_run, tmp_path, capsys):
     run = Path(shutil.copytree(trained_run, tmp_path / "run"))
-    checkpoint = torch.load(run / "checkpoints" / "r0.pt", weights_only=False)
+    checkpoint = torch.load(run / "checkpoints" / "r0.pt", weights_only=True)
     checkpoint["dataset"] = str(tmp_path / "moved")
     torch.save(checkpoint, run / "checkpoints" / "r0.pt")
     assert vc_export([str(run), "-o", str(tmp_path / "bundle"), "--precision", "int8"]) == 2

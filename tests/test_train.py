@@ -114,7 +114,7 @@ def test_resumed_training_ends_with_identical_weights(flat_dataset, tmp_path):
     interrupted = RegionTrainer(open_region(flat_dataset, "r0"), config, tmp_path / "resumed", flat_dataset,
                                 workers=0, show_progress=False)
     interrupted.train(until=2)
-    assert torch.load(checkpoint_path(tmp_path / "resumed", "r0"), weights_only=False)["step"] == 2
+    assert torch.load(checkpoint_path(tmp_path / "resumed", "r0"), weights_only=True)["step"] == 2
     resumed = RegionTrainer(open_region(flat_dataset, "r0"), config, tmp_path / "resumed", flat_dataset,
                             workers=1, show_progress=False)
     assert resumed.step == 2
@@ -141,7 +141,7 @@ def test_vc_train_writes_checkpoints_metrics_and_curves(flat_dataset, tmp_path, 
     assert metrics["scene_hash"] == json.loads((flat_dataset / "manifest.json").read_text())["scene_hash"]
     for image in ("precision_recall.png", "r0/precision_recall.png", "r0/training_loss.png"):
         assert (run / image).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    checkpoint = torch.load(checkpoint_path(run, "r0"), weights_only=False)
+    checkpoint = torch.load(checkpoint_path(run, "r0"), weights_only=True)
     assert TrainConfig.from_dict(checkpoint["train_config"]).network == network_config("fast")
     assert "AP50" in capsys.readouterr().out
 
@@ -179,7 +179,7 @@ def test_width_and_sb_units_override_the_preset(flat_dataset, tmp_path):
     run = tmp_path / "run"
     assert vc_train([str(flat_dataset), "-o", str(run), "--steps", "1", "--batch-size", "2", "--quiet",
                      "--workers", "0", "--width", "16", "--sb-units", "1"]) == 0
-    network = TrainConfig.from_dict(torch.load(checkpoint_path(run, "r0"), weights_only=False)["train_config"]).network
+    network = TrainConfig.from_dict(torch.load(checkpoint_path(run, "r0"), weights_only=True)["train_config"]).network
     assert (network.width, network.sb_units) == (16, 1)
 
 

@@ -1,0 +1,128 @@
+"""What the decoder's settings buy on real frames, without retraining: one bundle's heat maps on the frames are
+computed once, then decoded under each variant of its regions' ``DecodeConfig``; real AP50 and the miss analysis
+(:mod:`vc.deploy.misses`) of each variant.
+
+    python benchmarks/decode_variants.py BUNDLE --video V --gt GT.txt [--frames 1:400:5]
+        [--variant NAME FIELD=VALUE [FIELD=VALUE ...]]... --out DIR
+
+Without ``--variant`` the variants of :data:`VARIANTS` run. Writes ``DIR/decode_variants.json`` and a table
+``DIR/decode_variants.md``. The bundle's own settings are always the first row.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from dataclasses import fields, replace
+from pathlib import Path
+
+import numpy as np
+from tqdm import tqdm
+
+from vc.deploy.decode import DecodeConfig
+from vc.deploy.metrics import ImageResult, evaluate
+from vc.deploy.misses import analyse_misses, region_lookup
+from vc.deploy.runtime import Runtime
+from vc.frames import FrameRange, FrameSource
+from vc.io import write_json
+from vc.mot import read_mot_boxes
+
+#: Variants measured by default: name -> DecodeConfig fields changed from the bundle's.
+VARIANTS: dict[str, dict] = {
+    "centre separation 0.10": {"min_centre_separation": 0.10},
+    "centre separation 0.25": {"min_centre_separation": 0.25},
+    "reach sideways 0.2": {"reach_sideways": 0.2},
+    "reach sideways 0.4": {"reach_sideways": 0.4},
+    "keypoints >= 0.4 shape the box": {"keypoint_threshold": 0.4},
+    "mask >= 0.7": {"mask_threshold": 0.7},
+}
+
+
+def _field_value(name: str, text: str):
+    types = {field.name: field.type for field in fields(DecodeConfig)}
+    if name not in types:
+        raise SystemExit(f"--variant: DecodeConfig has no field {name!r} (it has {', '.join(types)})")
+    return int(text) if types[name] in (int, "int") else float(text)
+
+
+def _parse_variants(values: list[list[str]] | None) -> dict[str, dict]:
+    if not values:
+        return VARIANTS
+    variants = {}
+    for name, *settings in values:
+        variants[name] = {key: _field_value(key, value) for key, value in (s.split("=", 1) for s in settings)}
+    return variants
+
+
+def heatmaps_of(runtime: Runtime, source: FrameSource) -> tuple[list[int], list[list[np.ndarray]]]:
+    """Frame numbers, and per frame each region's heat maps."""
+    numbers, maps = [], []
+    for frame in tqdm(source, total=len(source), desc="heat maps", unit="frame"):
+        numbers.append(frame.number)
+        maps.append([runner.heatmaps(frame.image) for runner in runtime.runners])
+    return numbers, maps
+
+
+def measure(runtime: Runtime, numbers: list[int], maps: list[list[np.ndarray]], truth: dict[int, np.ndarray],
+            changes: dict) -> dict:
+    """AP50 and the miss analysis's headline numbers with ``changes`` applied to every region's DecodeConfig."""
+    images = []
+    for number, per_region in zip(numbers, maps, strict=True):
+        people = [person for runner, heatmaps in zip(runtime.runners, per_region, strict=True)
+                  for person in runner.people_in(heatmaps, replace(runner.entry.decode, **changes))]
+        images.append(ImageResult(truth.get(number, np.zeros((0, 4))), np.array([p.box for p in people]).reshape(-1, 4),
+                                  np.array([p.score for p in people])))
+    areas = {runner.entry.name: runner.entry.owned_image_area for runner in runtime.runners}
+    misses = analyse_misses(images, numbers, region_lookup(areas))
+    result = {"changes": changes, "ap50": round(evaluate(images).ap50, 4)}
+    if misses is not None:
+        summary = misses.summary()
+        result.update(precision=summary["precision"], recall=summary["recall"], outcomes=summary["outcomes"],
+                      recall_by_overlap=summary["recall_by_overlap"],
+                      false_positive_kinds=misses.false_positive_kinds(),
+                      near_miss_width_ratio=(misses.near_miss_errors()["width_ratio"] or {}).get("median"))
+    return result
+
+
+def _table(results: dict[str, dict]) -> str:
+    lines = ["| variant | AP50 | precision | recall | near misses | missed | recall apart | recall overlapping | "
+             "false positives (dup/merged/misplaced/background) | near-miss width ratio |", "|" + "---|" * 10]
+    for name, r in results.items():
+        overlap = r.get("recall_by_overlap", {})
+        kinds = r.get("false_positive_kinds", {})
+        lines.append(f"| {name} | {r['ap50']:.3f} | {r.get('precision', 0):.3f} | {r.get('recall', 0):.3f} | "
+                     f"{r.get('outcomes', {}).get('near miss', '')} | {r.get('outcomes', {}).get('missed', '')} | "
+                     f"{overlap.get('apart', {}).get('recall', '')} | "
+                     f"{overlap.get('overlapping another', {}).get('recall', '')} | "
+                     f"{'/'.join(str(v) for v in kinds.values())} | {r.get('near_miss_width_ratio', '')} |")
+    return "\n".join(lines) + "\n"
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("bundle", type=Path)
+    parser.add_argument("--video", type=Path, required=True)
+    parser.add_argument("--gt", type=Path, required=True)
+    parser.add_argument("--frames", type=FrameRange.parse, default=FrameRange(1, 400, 5))
+    parser.add_argument("--variant", nargs="+", action="append", metavar="NAME FIELD=VALUE",
+                        help="a named variant and the DecodeConfig fields it changes (repeatable)")
+    parser.add_argument("--out", type=Path, required=True)
+    args = parser.parse_args(argv)
+    variants = {"bundle as exported": {}, **_parse_variants(args.variant)}
+    runtime = Runtime(args.bundle, parallel_regions=False)
+    truth = read_mot_boxes(args.gt)
+    numbers, maps = heatmaps_of(runtime, FrameSource(args.video, args.frames))
+    results = {}
+    for name, changes in variants.items():
+        results[name] = measure(runtime, numbers, maps, truth, changes)
+        print(f"{name:40s} AP50 {results[name]['ap50']:.3f}  recall {results[name].get('recall', 0):.3f}")
+    args.out.mkdir(parents=True, exist_ok=True)
+    write_json(args.out / "decode_variants.json", {"bundle": str(args.bundle), "video": str(args.video),
+                                                   "frames": str(args.frames), "variants": results})
+    (args.out / "decode_variants.md").write_text(_table(results))
+    print(json.dumps({"written": str(args.out)}))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
