@@ -19,7 +19,10 @@ steps, per-region models, fp32) with one knob changed (:data:`KNOBS`):
   ``lighting:`` block, no camera effects: every point measured before photometric matching), the light estimated
   from the background alone, or matched (light and every camera effect the scene calls for: the standard compile),
   and matched less one camera effect at a time (``benchmarks/effects_ablation.py`` runs this knob and adds each
-  variant's render cost per sample).
+  variant's render cost per sample);
+- ``groups``: people placed alone (the standard compile) or with the scene's ``priors.group_rate`` at 0.3 (a
+  person starts a group of 2-4 walking abreast or in file; ``render/placement.py``), each with training seeds
+  0, 1 and 2 (renders shared).
 
 Measured per point: held-out synthetic AP50 and PCKh@0.5 (mean over regions, on the point's own renders: across
 the knobs that change the renders, such as effects or regions, the held-out sets differ and real AP50 is the
@@ -86,14 +89,17 @@ class Point:
     heatmap_channels: int = HEATMAP_CHANNELS  # the trainer's output layout (19: anatomical pairs, before handedness)
     train_seed: int = 0
     photometry: str = "matched"  # see PHOTOMETRY; points stored before the knob were "off"
+    group_rate: float | None = None  # None: the scene's own priors.group_rate
 
     def key(self, *fields: str) -> str:
         values = {name: getattr(self, name) for name in fields}
         return hashlib.sha256(json.dumps(values, sort_keys=True).encode()).hexdigest()[:12]
 
     def _rendered_as(self) -> tuple[str, ...]:
-        # "off" keeps the keys of the renders made before photometric matching (they were rendered so)
-        return ("photometry",) if self.photometry != "off" else ()
+        # "off" keeps the keys of the renders made before photometric matching (they were rendered so), and the
+        # scene's own group rate those made before the groups knob
+        return (("photometry",) if self.photometry != "off" else ()) + (
+            ("group_rate",) if self.group_rate is not None else ())
 
     def render_key(self) -> str:
         return self.key("spp", "effects", "samples", "target_person_px", "single_region", *self._rendered_as())
@@ -128,6 +134,8 @@ KNOBS: dict[str, dict[str, Point]] = {
     "precision": {v: replace(BASE, precision=v) for v in ("fp32", "fp16", "int8")},
     "seed": {str(v): replace(BASE, train_seed=v) for v in (0, 1, 2)},
     "photometry": {v: BASE if v == "matched" else replace(BASE, photometry=v) for v in PHOTOMETRY},
+    "groups": {"alone": BASE, **{f"rate 0.3, seed {seed}": replace(BASE, group_rate=0.3, train_seed=seed)
+                                 for seed in (0, 1, 2)}},
 }
 
 
@@ -195,6 +203,8 @@ class Sweep:
             document["effects"] = ["lens_distortion"] if distorted else []
         elif point.photometry != "matched":
             document.update(self.photometry_overrides(point.photometry))
+        if point.group_rate is not None:
+            document["priors"] = {**document.get("priors", {}), "group_rate": point.group_rate}
         path = self.work / "scenes" / f"{point.render_key()}.yaml"
         with atomic_path(path) as temporary:
             temporary.write_text(yaml.safe_dump(document, sort_keys=False))

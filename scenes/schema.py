@@ -115,6 +115,9 @@ class Priors(StrictModel):
     orientation: Literal["uniform"] | Annotated[list[VonMises], Field(min_length=1)] = "uniform"
     height_m: Annotated[list[Annotated[float, Field(gt=0.5, lt=2.6)]], Field(min_length=2, max_length=2)] = [
         1.5, 1.95]
+    #: The chance that a person placed in a sample walks with others: a group of 2-4 side by side or in file
+    #: (render/placement.py). 0 places everyone on their own.
+    group_rate: float = Field(0.0, ge=0.0, le=1.0)
 
     @field_validator("height_m")
     @classmethod

@@ -60,3 +60,40 @@ def test_same_generator_state_gives_the_same_people() -> None:
     sampler = PlacementSampler(CAMERA, LAYOUT, REGION, Priors())
     first = sampler.sample(4, np.random.default_rng(7))
     assert first == sampler.sample(4, np.random.default_rng(7))
+
+
+def _nearest_pairs(people) -> list[tuple[float, float]]:
+    """(distance m, heading difference deg) from each person to their nearest neighbour."""
+    pairs = []
+    for a, person in enumerate(people):
+        others = [other for b, other in enumerate(people) if b != a]
+        if others:
+            nearest = min(others, key=lambda other: math.dist(person.position, other.position))
+            turn = abs((person.yaw_deg - nearest.yaw_deg + 180.0) % 360.0 - 180.0)
+            pairs.append((math.dist(person.position, nearest.position), turn))
+    return pairs
+
+
+def test_groups_walk_together_and_no_groups_leaves_the_draws_unchanged() -> None:
+    alone = PlacementSampler(CAMERA, LAYOUT, REGION, Priors())
+    grouped = PlacementSampler(CAMERA, LAYOUT, REGION, Priors(group_rate=1.0))
+    close_alone, close_grouped, turns = [], [], []
+    for seed in range(100):
+        close_alone += [d for d, _ in _nearest_pairs(alone.sample(4, np.random.default_rng(seed)))]
+        people = grouped.sample(4, np.random.default_rng(seed))
+        assert len(people) <= 4
+        for a in range(len(people)):
+            for b in range(a + 1, len(people)):
+                assert math.dist(people[a].position, people[b].position) >= MIN_SEPARATION_M
+        pairs = _nearest_pairs(people)
+        close_grouped += [d for d, _ in pairs]
+        turns += [turn for d, turn in pairs if d <= 0.95]
+    # Group members face the same way, within twice the heading spread of each other (a stranger passing by
+    # closer than a metre need not).
+    assert np.mean(np.array(turns) <= 20.0 + 1e-9) > 0.9
+    # Alone, a neighbour within a metre is rare; in groups, the usual case.
+    assert np.mean(np.array(close_alone) <= 1.0) < 0.15 < 0.6 < np.mean(np.array(close_grouped) <= 1.0)
+    # group_rate 0 draws exactly what the sampler drew before groups existed (renders stay byte-identical).
+    first = [(p.position, p.yaw_deg) for p in alone.sample(5, np.random.default_rng(7))]
+    again = PlacementSampler(CAMERA, LAYOUT, REGION, Priors(group_rate=0.0))
+    assert first == [(p.position, p.yaw_deg) for p in again.sample(5, np.random.default_rng(7))]
