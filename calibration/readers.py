@@ -5,6 +5,12 @@
 | ``tsai-xml``   | PETS 2009 ``View_00N.xml`` (Tsai 1987) | millimetres             |
 | ``towncentre-ci`` | Oxford Town Centre ``.ci`` key/value | metres                  |
 | ``opencv``     | ``cv::FileStorage`` YAML / JSON        | metres (``units`` to override) |
+| ``ground-points`` | CSV of ``u, v, x, y``: image points and their measured ground positions (solved) | metres |
+| ``homography`` | a 3x3 image -> ground homography, ETH/UCY ``H.txt`` (solved)  | metres |
+
+The last two are solved, not read (:mod:`vc.calibration.ground_points`): they need the image size, and take the
+focal length in pixels when it is known (``focal_px``; otherwise it is solved with the principal point at the
+image centre).
 
 Every reader raises :class:`vc.errors.InputError` naming the file and the field on a bad file. Readers return
 cameras in metres; ``units`` converts files written in other units.
@@ -21,6 +27,12 @@ import numpy as np
 
 from vc.calibration.camera import Camera, rotation_from_quaternion, rotation_xyz
 from vc.calibration.distortion import BrownConrady, TsaiRadial
+from vc.calibration.ground_points import (
+    calibrate_from_ground_points,
+    camera_from_homography,
+    read_ground_points,
+    read_homography,
+)
 from vc.errors import InputError
 
 #: Metres per file unit.
@@ -200,18 +212,54 @@ def _scale(path: Path, units: str) -> float:
     return UNIT_SCALE[units]
 
 
-#: Calibration formats by name, as written in a scene's ``calibration.format``.
-READERS: dict[str, Callable[..., Camera]] = {
-    "tsai-xml": lambda path, size, units: read_tsai_xml(path, units or "mm"),
-    "towncentre-ci": lambda path, size, units: read_towncentre_ci(path, size, units or "m"),
-    "opencv": lambda path, size, units: read_opencv(path, size, units or "m"),
+def _solved_from_points(path: Path, size: tuple[int, int] | None, units: str | None,
+                        focal_px: float | None) -> Camera:
+    image, ground = read_ground_points(path, _scale(path, units or "m"))
+    return calibrate_from_ground_points(image, ground, _required_size(path, size), focal_px, path).camera
+
+
+def _solved_from_homography(path: Path, size: tuple[int, int] | None, units: str | None,
+                            focal_px: float | None) -> Camera:
+    image_to_ground = read_homography(path)
+    scale = _scale(path, units or "m")
+    try:
+        ground_to_image = np.linalg.inv(np.diag([scale, scale, 1.0]) @ image_to_ground)
+    except np.linalg.LinAlgError:
+        raise InputError(path, "", "the homography is singular: it does not map the image onto a plane") from None
+    return camera_from_homography(ground_to_image, _required_size(path, size), focal_px, path)
+
+
+def _required_size(path: Path, size: tuple[int, int] | None) -> tuple[int, int]:
+    if size is None:
+        raise InputError(path, "size", "a solved calibration needs the image size: give calibration.size")
+    return size
+
+
+def _read(reader: Callable[[Path, tuple[int, int] | None, str], Camera], default_units: str
+          ) -> Callable[[Path, tuple[int, int] | None, str | None, float | None], Camera]:
+    """A file reader as a :data:`READERS` entry: the file holds its own focal length."""
+    def read(path: Path, size: tuple[int, int] | None, units: str | None, focal_px: float | None) -> Camera:
+        if focal_px is not None:
+            raise InputError(path, "focal_px", "only a solved calibration (ground-points, homography) takes "
+                                               "focal_px: this file gives its own intrinsics")
+        return reader(path, size, units or default_units)
+    return read
+
+
+#: Calibration formats by name, as written in a scene's ``calibration.format``: (path, size, units, focal_px).
+READERS: dict[str, Callable[[Path, tuple[int, int] | None, str | None, float | None], Camera]] = {
+    "tsai-xml": _read(lambda path, size, units: read_tsai_xml(path, units), "mm"),
+    "towncentre-ci": _read(read_towncentre_ci, "m"),
+    "opencv": _read(read_opencv, "m"),
+    "ground-points": _solved_from_points,
+    "homography": _solved_from_homography,
 }
 
 
 def read_calibration(path: Path, format: str, size: tuple[int, int] | None = None,
-                     units: str | None = None) -> Camera:
-    """Read ``path`` as calibration ``format``; see :data:`READERS` for the names."""
+                     units: str | None = None, focal_px: float | None = None) -> Camera:
+    """Read (or solve) ``path`` as calibration ``format``; see :data:`READERS` for the names."""
     if format not in READERS:
         raise InputError(path, "format", f"unknown calibration format {format!r} "
                                          f"(expected one of {', '.join(sorted(READERS))})")
-    return READERS[format](Path(path), size, units)
+    return READERS[format](Path(path), size, units, focal_px)

@@ -103,7 +103,7 @@ def _camera(path: Path, spec: SceneFile) -> tuple[Camera, str, list[Path]]:
     if not calibration_path.is_file():
         raise InputError(path, "calibration.path", f"file not found: {calibration_path}")
     size = tuple(reference.size) if reference.size else None
-    camera = read_calibration(calibration_path, reference.format, size, reference.units)
+    camera = read_calibration(calibration_path, reference.format, size, reference.units, reference.focal_px)
     if size is not None and camera.size != size:
         raise InputError(path, "calibration.size", f"scene says {size[0]}x{size[1]} but {calibration_path.name} "
                                                    f"says {camera.width}x{camera.height}")

@@ -85,6 +85,7 @@ class CalibrationRef(StrictModel):
     path: Path
     size: Size | None = None
     units: str | None = None
+    focal_px: float | None = Field(None, gt=0)  # ground-points / homography: the focal length, when known
     response: Response = "srgb"
     exposure_s: float | None = Field(None, gt=0, le=1)  # exposure time, when known: decides motion blur
 

@@ -5,6 +5,8 @@
     vc-scene background VIDEO -o background.png [--frames N]
     vc-scene synthesize SCENE -o background.png [--spp S] [--seed K]
     vc-scene light SCENE -o compare.png [--json OUT.json]
+    vc-scene calibrate POINTS.csv|H.txt --size W H [--format ground-points|homography] [--focal F] [--units U]
+             -o camera.yaml [--json OUT.json]
 
 Bad input (a malformed scene, a missing file, an unreadable video) prints one ``error:`` line naming the file
 and the field, and exits with status 2.
@@ -164,6 +166,43 @@ def cmd_light(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_calibrate(args: argparse.Namespace) -> int:
+    from vc.calibration.ground_points import (
+        calibrate_from_ground_points,
+        read_ground_points,
+        write_opencv_yaml,
+    )
+    from vc.calibration.readers import UNIT_SCALE, read_calibration
+
+    size = tuple(args.size)
+    if args.format == "ground-points":
+        image, ground = read_ground_points(args.input, UNIT_SCALE[args.units])
+        fit = calibrate_from_ground_points(image, ground, size, args.focal, args.input)
+        camera, result = fit.camera, fit.to_dict()
+        for number, point in enumerate(result["points"], start=1):
+            print(f"  point {number}: image ({point['image_px'][0]:.1f}, {point['image_px'][1]:.1f}) px  ground "
+                  f"({point['ground_m'][0]:.2f}, {point['ground_m'][1]:.2f}) m  error {point['error_px']:.2f} px")
+        print(f"reprojection: median {result['reprojection_px']['median']:.2f} px, max "
+              f"{result['reprojection_px']['max']:.2f} px over {len(image)} points")
+    else:
+        camera = read_calibration(args.input, "homography", size, args.units, args.focal)
+        result = {"focal_px": round(float(camera.fx), 3), "focal_solved": args.focal is None,
+                  "camera_height_m": round(float(camera.center[2]), 3)}
+    solved = "solved" if args.focal is None else "given"
+    print(f"camera: focal {camera.fx:.1f} px ({solved}), principal point at the image centre, "
+          f"{camera.center[2]:.2f} m above the ground at ({camera.center[0]:.2f}, {camera.center[1]:.2f}) m")
+    try:
+        write_opencv_yaml(camera, args.output)
+    except OSError as error:
+        raise InputError(args.output, "", f"cannot write ({error.strerror or error})") from None
+    if args.json:
+        write_json(args.json, {"input": str(args.input), "format": args.format, "size": list(size), **result,
+                               "camera": camera.to_dict()})
+    print(f"wrote {args.output}" + (f" and {args.json}" if args.json else "")
+          + ": review it, then name it in the scene as calibration: {format: opencv, path: ...}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="vc-scene", description=__doc__.split("\n\n")[0])
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
@@ -197,6 +236,20 @@ def build_parser() -> argparse.ArgumentParser:
     light.add_argument("-o", "--output", type=Path, required=True, help="comparison figure (PNG)")
     light.add_argument("--json", type=Path, help="also write the estimate and the per-region errors as JSON here")
     light.set_defaults(run=cmd_light)
+
+    calibrate = commands.add_parser("calibrate", help="solve the camera from measured ground points or a "
+                                                      "homography; write it as OpenCV YAML")
+    calibrate.add_argument("input", type=Path, help="CSV of u, v, x, y (ground-points) or a 3x3 image -> ground "
+                                                    "homography (homography)")
+    calibrate.add_argument("--format", choices=("ground-points", "homography"), default="ground-points")
+    calibrate.add_argument("--size", type=int, nargs=2, required=True, metavar=("WIDTH", "HEIGHT"),
+                           help="the image size in pixels")
+    calibrate.add_argument("--focal", type=float, default=None,
+                           help="focal length in pixels, when known (default: solved)")
+    calibrate.add_argument("--units", choices=("m", "cm", "mm"), default="m", help="of the ground coordinates")
+    calibrate.add_argument("-o", "--output", type=Path, required=True, help="camera YAML (cv::FileStorage)")
+    calibrate.add_argument("--json", type=Path, help="also write the solution and each point's error as JSON here")
+    calibrate.set_defaults(run=cmd_calibrate)
     return parser
 
 
