@@ -156,8 +156,10 @@ class Wall(StrictModel):
 
 
 class Layout(StrictModel):
-    """Where people can stand (``walkable``) and what they can stand behind (``obstacles``, ``walls``)."""
+    """Where people can stand (``walkable``) and what they can stand behind (``obstacles``, ``walls``), in metres on
+    the ground (``frame: image`` layouts are drawn in pixels: :mod:`vc.scenes.pixel_layout`)."""
 
+    frame: Literal["ground"] = "ground"
     walkable: Annotated[list[list[Vec2]], Field(min_length=1)]
     obstacles: list[Obstacle] = []
     walls: list[Wall] = []

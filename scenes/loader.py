@@ -21,6 +21,7 @@ from vc.calibration.readers import read_calibration
 from vc.errors import InputError
 from vc.io import image_size
 from vc.scenes.layout import Layout
+from vc.scenes.pixel_layout import PixelLayout
 from vc.scenes.schema import Lighting, Priors, RegionPlanSpec, SceneFile, SolarLighting
 
 #: Folder of the scenes shipped with the package (``demo``, ``pets09_s2l1``).
@@ -44,6 +45,7 @@ class Scene:
     content_hash: str
     video_path: Path | None = None  # frames of the same camera, when the scene gives them
     exposure_s: float | None = None  # the camera's exposure time, when the scene gives it
+    drawn_layout: PixelLayout | None = None  # the layout as drawn in pixels, when the scene gives it so
 
     @property
     def folder(self) -> Path:
@@ -57,7 +59,10 @@ def _field(location: tuple) -> str:
 def _pydantic_error(path: Path, error: ValidationError) -> InputError:
     """The first (most specific) validation error as one line; pydantic's tagged-union tags are dropped."""
     first = error.errors(include_url=False)[0]
-    location = tuple(part for part in first["loc"] if part not in ("box", "cylinder", "auto", "explicit", "solar"))
+    parts = first["loc"]
+    location = tuple(part for index, part in enumerate(parts)
+                     if part not in ("box", "cylinder", "auto", "explicit", "solar")
+                     and not (index and parts[index - 1] == "layout" and part in ("ground", "image")))
     message = first["msg"].removeprefix("Value error, ")
     if first["type"] == "missing":
         message = "missing required field"
@@ -165,9 +170,11 @@ def _scene(path: Path, spec: SceneFile, image_path: Path, camera: Camera, respon
     digest = hashlib.sha256()
     for file in (path, *hashed_files, *_video_files(video)):
         digest.update(file.read_bytes())
+    drawn = spec.layout if isinstance(spec.layout, PixelLayout) else None
+    layout = drawn.to_ground(camera, path) if drawn is not None else spec.layout
     return Scene(
-        name=spec.name, path=path, image_path=image_path, camera=camera, response=response, layout=spec.layout,
+        name=spec.name, path=path, image_path=image_path, camera=camera, response=response, layout=layout,
         priors=spec.priors, lighting=spec.lighting, effects=spec.effects, regions=spec.regions,
         content_hash=digest.hexdigest(), video_path=video,
-        exposure_s=(spec.camera or spec.calibration).exposure_s,
+        exposure_s=(spec.camera or spec.calibration).exposure_s, drawn_layout=drawn,
     )

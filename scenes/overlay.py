@@ -3,7 +3,8 @@
 Everything is drawn through the real camera model (distortion included): walkable ground, obstacles and
 walls as wireframes, region crop windows and owned areas, the horizon, and a grid of 1.75 m stick figures
 standing on the walkable ground. If the calibration is wrong, the figures will not look like people standing
-on that ground.
+on that ground. A layout drawn in pixels (``frame: image``) is drawn as given too, thin white lines with a dot at
+every given pixel, over its projection: where the two part, a pixel missed the ground it was meant to mark.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ import shapely
 from vc.calibration.camera import Camera
 from vc.scenes.layout import densify_segments
 from vc.scenes.loader import Scene
+from vc.scenes.pixel_layout import PixelBox, PixelLayout
 from vc.scenes.regions import Region, planning_domain, region_map
 
 #: Region colours (RGB), cycled.
@@ -26,6 +28,7 @@ OBSTACLE_COLOUR = (255, 60, 60)
 WALL_COLOUR = (255, 170, 0)
 WALKABLE_COLOUR = (80, 255, 120)
 FIGURE_COLOUR = (255, 255, 255)
+DRAWN_COLOUR = (255, 255, 255)
 #: A 1.75 m stick figure in a local frame (x: the figure's right, z: up), metres. Head drawn separately.
 FIGURE_BONES = np.array([
     [[-0.11, 0, 0.0], [-0.10, 0, 0.49]], [[-0.10, 0, 0.49], [-0.10, 0, 0.92]],
@@ -116,6 +119,22 @@ def _label(image: np.ndarray, text: str, origin: tuple[int, int], colour) -> Non
     cv2.putText(image, text, (x + 2, y - 1), cv2.FONT_HERSHEY_SIMPLEX, 0.45, colour, 1, cv2.LINE_AA)
 
 
+def draw_pixel_input(image: np.ndarray, drawn: PixelLayout) -> None:
+    """The layout as drawn in pixels: walkable outlines, box footprints, cylinder bases and wall lines."""
+    def outline(points: list[list[float]], closed: bool) -> None:
+        uv = np.asarray(points, np.float64)
+        cv2.polylines(image, [_to_pixels(uv)], closed, DRAWN_COLOUR, 1, cv2.LINE_AA, shift=4)
+        for point in _to_pixels(uv):
+            cv2.circle(image, tuple(int(v) for v in point), 3 * 16, DRAWN_COLOUR, -1, cv2.LINE_AA, shift=4)
+
+    for polygon in drawn.walkable:
+        outline(polygon, closed=True)
+    for obstacle in drawn.obstacles:
+        outline(obstacle.footprint if isinstance(obstacle, PixelBox) else [obstacle.base], closed=True)
+    for wall in drawn.walls:
+        outline([wall.start, wall.end], closed=False)
+
+
 def draw_overlay(scene: Scene, background: np.ndarray, regions: list[Region]) -> np.ndarray:
     """The background (H, W, 3 uint8, RGB) with the scene's geometry drawn on it."""
     camera = scene.camera
@@ -131,6 +150,8 @@ def draw_overlay(scene: Scene, background: np.ndarray, regions: list[Region]) ->
     for blocker in scene.layout.blockers():
         colour = WALL_COLOUR if blocker in scene.layout.walls else OBSTACLE_COLOUR
         _draw_segments(image, camera, blocker.edges(), colour, 1)
+    if scene.drawn_layout is not None:
+        draw_pixel_input(image, scene.drawn_layout)
     horizon = camera.horizon_pixels()
     horizon = horizon[camera.is_in_image(horizon, margin=max(camera.size))]
     if len(horizon) >= 2 and camera.is_in_image(horizon).any():

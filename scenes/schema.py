@@ -15,6 +15,7 @@ from pydantic import AfterValidator, AwareDatetime, Discriminator, Field, Tag, f
 
 from vc.calibration.readers import READERS, UNIT_SCALE
 from vc.scenes.layout import Layout, StrictModel, Vec2, validate_ground_polygon
+from vc.scenes.pixel_layout import PixelLayout
 
 Matrix3 = Annotated[list[Annotated[list[float], Field(min_length=3, max_length=3)]], Field(min_length=3,
                                                                                           max_length=3)]
@@ -208,6 +209,16 @@ class RegionPlanSpec(StrictModel):
         return self
 
 
+def _layout_frame(value: object) -> str:
+    frame = value.get("frame") if isinstance(value, dict) else getattr(value, "frame", "ground")
+    return "image" if frame == "image" else "ground"
+
+
+#: A layout in metres on the ground (the default) or drawn in pixels of the background (``frame: image``).
+LayoutSpec = Annotated[Annotated[Layout, Tag("ground")] | Annotated[PixelLayout, Tag("image")],
+                       Discriminator(_layout_frame)]
+
+
 class SceneFile(StrictModel):
     """The whole scene YAML."""
 
@@ -216,7 +227,7 @@ class SceneFile(StrictModel):
     video: Path | None = None  # frames of the same camera (a video file or a folder of images): noise, compression
     camera: InlineCamera | None = None
     calibration: CalibrationRef | None = None
-    layout: Layout
+    layout: LayoutSpec
     priors: Priors = Priors()
     lighting: LightingSpec = "auto"
     effects: Literal["auto"] | list[Literal[EFFECT_NAMES]] = "auto"  # type: ignore[valid-type]
