@@ -5,6 +5,8 @@
     vc-scene background VIDEO -o background.png [--frames N]
     vc-scene synthesize SCENE -o background.png [--spp S] [--seed K]
     vc-scene light SCENE -o compare.png [--json OUT.json]
+    vc-scene init VIDEO|FRAMES|IMAGE -o DIR (--points P.csv | --calibration FILE [--format F] | --mot-world GT.txt)
+             [--focal F]
     vc-scene calibrate POINTS.csv|H.txt --size W H [--format ground-points|homography] [--focal F] [--units U]
              -o camera.yaml [--json OUT.json]
 
@@ -18,6 +20,8 @@ import argparse
 import sys
 import time
 from pathlib import Path
+
+import numpy as np
 
 from vc import __version__
 from vc.cli.common import handles_input_errors
@@ -203,6 +207,37 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_init(args: argparse.Namespace) -> int:
+    from vc.scenes.overlay import draw_overlay
+    from vc.scenes.starter import make_starter_scene
+
+    started = time.perf_counter()
+    starter = make_starter_scene(args.input, args.output, args.points, args.calibration, args.format, args.mot_world,
+                                 args.focal, progress=sys.stderr.isatty())
+    scene = load_scene(starter.scene_path)
+    regions = plan_regions(scene)
+    overlay = args.output / "overlay.png"
+    write_image(overlay, draw_overlay(scene, read_image(scene.image_path), regions))
+    summary = {**starter.to_dict(), **scene_summary(scene, regions), "seconds": round(time.perf_counter() - started, 1)}
+    write_json(args.output / "init.json", summary)
+    camera = scene.camera
+    print(f"camera   from {starter.calibration_source}: focal {camera.fx:.0f} px, {camera.center[2]:.2f} m above the "
+          f"ground")
+    if starter.fit is not None:
+        errors = starter.fit.errors_px
+        print(f"         reprojection median {np.median(errors):.2f} px, max {errors.max():.2f} px over {len(errors)} "
+              f"points" + (f" (taken to {starter.ground_points_path})" if starter.ground_points_path else ""))
+    print(f"regions  {len(regions)}: " + ", ".join(f"{r.name} people {r.person_px[0]:.0f}-{r.person_px[1]:.0f} px"
+                                                   for r in regions))
+    print(f"wrote    {starter.scene_path}, {starter.background_path.name}, {overlay.name}, init.json "
+          f"in {time.perf_counter() - started:.0f} s")
+    print("next     1. look at overlay.png: the figures must stand on the ground, as tall as people there are;\n"
+          "         2. edit scene.yaml: trim the walkable polygon, add obstacles and walls (in pixels);\n"
+          f"         3. vc-scene light {starter.scene_path} -o light.png  (the light estimated from the background);\n"
+          f"         4. vc-compile {starter.scene_path} -o OUT")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="vc-scene", description=__doc__.split("\n\n")[0])
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
@@ -236,6 +271,19 @@ def build_parser() -> argparse.ArgumentParser:
     light.add_argument("-o", "--output", type=Path, required=True, help="comparison figure (PNG)")
     light.add_argument("--json", type=Path, help="also write the estimate and the per-region errors as JSON here")
     light.set_defaults(run=cmd_light)
+
+    init = commands.add_parser("init", help="a starting scene from a camera's video (or image) and its "
+                                            "calibration or measured ground points")
+    init.add_argument("input", type=Path, help="video file, folder of frames, or one image")
+    init.add_argument("-o", "--output", type=Path, required=True, help="the new scene's folder")
+    source = init.add_mutually_exclusive_group(required=True)
+    source.add_argument("--points", type=Path, help="CSV of u, v, x, y: image points and their ground positions (m)")
+    source.add_argument("--calibration", type=Path, help="a calibration file (tsai-xml, towncentre-ci, opencv, ...)")
+    source.add_argument("--mot-world", type=Path, help="ground truth with each person's ground position (MOT "
+                                                       "frame,id,left,top,width,height,conf,x,y,z): feet as points")
+    init.add_argument("--format", default=None, help="the calibration file's format (default: from its suffix)")
+    init.add_argument("--focal", type=float, default=None, help="focal length in pixels, when known")
+    init.set_defaults(run=cmd_init)
 
     calibrate = commands.add_parser("calibrate", help="solve the camera from measured ground points or a "
                                                       "homography; write it as OpenCV YAML")

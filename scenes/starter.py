@@ -1,0 +1,195 @@
+"""A first scene for a new camera from what its installer has: its video (or one image) and a calibration, or a
+handful of measured ground points (``vc-scene init``).
+
+1. **Background**: the image as given, or the per-pixel temporal median of the video or folder of frames
+   (:mod:`vc.scenes.background`).
+2. **Camera**: a calibration file as given (copied beside the scene), or solved from measured ground points
+   (:mod:`vc.calibration.ground_points`) and written as ``camera.yaml`` for review. Points may also come from a
+   MOTChallenge-style ground truth that carries each person's ground position (``frame, id, left, top, width,
+   height, conf, x, y, z``): the bottom centre of each box not cut by the image's bottom border is a foot pixel,
+   and (x, y) its ground point.
+3. **Walkable ground**, drawn in pixels (``layout: {frame: image}``) for the user to trim: the image area whose
+   pixels see the ground where a person of the prior's smallest stature stands at least ``min_person_px`` tall
+   (the region planner's limit) and no taller than the image (closer, only their legs would be in view: an eye-
+   level camera sees the ground at its feet with people many times the frame's height), its largest connected
+   part outlined.
+4. ``scene.yaml`` (lighting and effects ``auto``), then the scene is loaded like any other (so it is valid) and
+   its overlay drawn.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+from dataclasses import dataclass
+from pathlib import Path
+
+import cv2
+import numpy as np
+import yaml
+
+from vc.calibration.camera import Camera
+from vc.calibration.ground_points import (
+    GroundCalibration,
+    calibrate_from_ground_points,
+    read_ground_points,
+    write_opencv_yaml,
+)
+from vc.calibration.readers import read_calibration
+from vc.errors import InputError
+from vc.frames import IMAGE_SUFFIXES
+from vc.io import read_image, write_image
+from vc.scenes.background import median_background
+from vc.scenes.schema import Priors, RegionPlanSpec
+
+#: The walkable outline is simplified to within this many pixels.
+OUTLINE_TOLERANCE_PX = 2.0
+#: The walkable area is found on a grid of this pitch (px), then outlined at full resolution.
+GRID_PX = 4
+#: Calibration file formats by suffix, for ``--calibration`` without ``--format``.
+FORMAT_BY_SUFFIX = {".xml": "tsai-xml", ".ci": "towncentre-ci", ".yaml": "opencv", ".yml": "opencv",
+                    ".json": "opencv", ".csv": "ground-points", ".txt": "homography"}
+
+
+@dataclass(frozen=True)
+class StarterScene:
+    """What ``vc-scene init`` wrote, and how well the camera fits its points."""
+
+    scene_path: Path
+    background_path: Path
+    camera: Camera
+    calibration_source: str
+    fit: GroundCalibration | None  # None: a calibration file was given
+    walkable_px: list[list[float]]
+    ground_points_path: Path | None = None  # points taken from a ground truth, for review
+
+    def to_dict(self) -> dict:
+        result = {"scene": str(self.scene_path), "background": str(self.background_path),
+                  "calibration": self.calibration_source, "camera": self.camera.to_dict(),
+                  "camera_height_m": round(float(self.camera.center[2]), 3),
+                  "walkable_px_vertices": len(self.walkable_px)}
+        if self.fit is not None:
+            result["fit"] = {key: value for key, value in self.fit.to_dict().items() if key != "points"}
+            result["points"] = len(self.fit.errors_px)
+        return result
+
+
+def scene_name(folder: Path) -> str:
+    """A scene name (letters, digits, ``_.-``) from the output folder's name."""
+    return re.sub(r"[^A-Za-z0-9_.-]+", "_", folder.resolve().name).strip("_") or "camera"
+
+
+def ground_points_from_mot(path: Path, image_height: int, margin_px: float = 2.0) -> tuple[np.ndarray, np.ndarray]:
+    """Foot pixels (N, 2) and ground points (N, 2 m) from a ground truth with world positions (columns 8-9):
+    the bottom centre of every box that ends at least ``margin_px`` above the image's bottom border."""
+    image, ground = [], []
+    for number, line in enumerate(Path(path).read_text().splitlines(), start=1):
+        if not line.strip() or line.lstrip().startswith("#"):
+            continue
+        fields = line.replace(" ", "").split(",")
+        try:
+            left, top, width, height, x, y = (float(fields[i]) for i in (2, 3, 4, 5, 7, 8))
+        except (ValueError, IndexError):
+            raise InputError(path, f"line {number}", "expected frame,id,left,top,width,height,conf,x,y,z with the "
+                                                     "ground position in x, y") from None
+        if not np.isfinite([left, top, width, height, x, y]).all() or x == -1 and y == -1:
+            continue  # MOT marks a missing world position with -1
+        if top + height <= image_height - margin_px:
+            image.append([left + width / 2 - 0.5, top + height - 0.5])  # outer box edge -> pixel centre
+            ground.append([x, y])
+    if not image:
+        raise InputError(path, "", "no box with a ground position whose bottom is inside the image")
+    return np.array(image), np.array(ground)
+
+
+def walkable_outline(camera: Camera, height_m: float, min_person_px: float) -> list[list[float]]:
+    """The image area where the ground is seen with a ``height_m`` person at least ``min_person_px`` and at most
+    the image's height tall, as one polygon in pixels (its largest connected part)."""
+    width, height = camera.size
+    columns, rows = np.meshgrid(np.arange(0, width, GRID_PX, dtype=np.float64),
+                                np.arange(0, height, GRID_PX, dtype=np.float64))
+    pixels = np.stack([columns, rows], axis=-1).reshape(-1, 2)
+    hit = camera.ground_from_pixels(pixels)
+    tall = np.zeros(len(pixels), bool)
+    person_px = camera.person_pixel_height(hit.points[hit.ok], height_m)
+    tall[hit.ok] = (person_px >= min_person_px) & (person_px <= height)
+    grid = tall.reshape(rows.shape).astype(np.uint8)
+    mask = cv2.resize(grid, (width, height), interpolation=cv2.INTER_NEAREST)
+    count, labels, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=4)
+    if count < 2:
+        raise InputError(None, "camera", "the camera sees no ground where people would be visible: is it looking at "
+                                         "the sky, or is the calibration upside down?")
+    largest = 1 + int(np.argmax(stats[1:, cv2.CC_STAT_AREA]))
+    contours, _ = cv2.findContours((labels == largest).astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+    outline = cv2.approxPolyDP(max(contours, key=cv2.contourArea), OUTLINE_TOLERANCE_PX, True)[:, 0, :]
+    return outline.astype(float).tolist()
+
+
+def _background(source: Path, destination: Path, progress: bool) -> tuple[Path | None, np.ndarray]:
+    """The background image written to ``destination``; the video (or frames) it came from, if any."""
+    if source.is_file() and source.suffix.lower() in IMAGE_SUFFIXES:
+        image = read_image(source)
+        write_image(destination, image)
+        return None, image
+    image = median_background(source, progress=progress).image
+    write_image(destination, image)
+    return source, image
+
+
+def make_starter_scene(source: Path, folder: Path, points: Path | None = None, calibration: Path | None = None,
+                       calibration_format: str | None = None, mot_world: Path | None = None,
+                       focal_px: float | None = None, progress: bool = True) -> StarterScene:
+    """Write ``folder/scene.yaml`` with its background and camera (see the module docstring)."""
+    given = [option for option in (points, calibration, mot_world) if option is not None]
+    if len(given) != 1:
+        raise InputError(None, "--points", "give exactly one of --points, --calibration or --mot-world")
+    folder.mkdir(parents=True, exist_ok=True)
+    video, image = _background(Path(source), folder / "background.png", progress)
+    size = (image.shape[1], image.shape[0])
+    fit, points_path = None, None
+    if calibration is not None:
+        calibration_format = calibration_format or FORMAT_BY_SUFFIX.get(calibration.suffix.lower())
+        if calibration_format is None:
+            raise InputError(calibration, "--format", "cannot tell the calibration's format from its name: give "
+                                                      "--format")
+        camera = read_calibration(calibration, calibration_format, size, None, focal_px)
+        copied = folder / f"calibration{calibration.suffix.lower()}"
+        if calibration.resolve() != copied.resolve():
+            shutil.copyfile(calibration, copied)
+        reference = {"format": calibration_format, "path": copied.name, "size": list(size)}
+        if focal_px is not None:
+            reference["focal_px"] = focal_px
+        source_text = f"{calibration_format} file {calibration.name}"
+    else:
+        if mot_world is not None:
+            image_points, ground_points = ground_points_from_mot(mot_world, size[1])
+            points_path = folder / "ground_points.csv"
+            points_path.write_text("u,v,x,y\n" + "".join(f"{u:.2f},{v:.2f},{x:.4f},{y:.4f}\n" for (u, v), (x, y)
+                                                         in zip(image_points, ground_points, strict=True)))
+            source_text = f"{len(image_points)} feet of {mot_world.name}"
+            where = mot_world
+        else:
+            image_points, ground_points = read_ground_points(points)
+            source_text = f"{len(image_points)} ground points of {points.name}"
+            where = points
+        fit = calibrate_from_ground_points(image_points, ground_points, size, focal_px, where)
+        camera = fit.camera
+        write_opencv_yaml(camera, folder / "camera.yaml")
+        reference = {"format": "opencv", "path": "camera.yaml"}
+    priors, plan = Priors(), RegionPlanSpec()
+    walkable = walkable_outline(camera, priors.height_m[0], plan.min_person_px)
+    document = {"name": scene_name(folder), "image": "background.png"}
+    if video is not None:
+        document["video"] = os.path.relpath(video.resolve(), folder.resolve())
+    document.update({"calibration": reference,
+                     "layout": {"frame": "image", "walkable": [[[round(u, 1), round(v, 1)] for u, v in walkable]],
+                                "obstacles": [], "walls": []},
+                     "lighting": "auto", "effects": "auto", "regions": "auto"})
+    scene_path = folder / "scene.yaml"
+    header = (f"# A starting scene made by vc-scene init from {Path(source).name} and {source_text}.\n"
+              "# The walkable polygon is every pixel that sees ground where people are tall enough to detect: trim\n"
+              "# it to where people can walk, and add obstacles (box footprints or cylinder bases, in pixels) and\n"
+              "# walls that hide people. Check overlay.png: the figures must stand on the ground at people's size.\n")
+    scene_path.write_text(header + yaml.safe_dump(document, sort_keys=False, width=120))
+    return StarterScene(scene_path, folder / "background.png", camera, source_text, fit, walkable, points_path)
