@@ -17,6 +17,7 @@ from vc.calibration.compression import JpegEstimate, blockiness, equivalent_qual
 from vc.calibration.noise import NoiseEstimate, NoiseModel, estimate_noise_image, estimate_noise_video
 from vc.calibration.response import Response
 from vc.calibration.sharpness import BlurEstimate, estimate_blur_sigma
+from vc.errors import InputError
 from vc.frames import FrameRange, FrameSource
 from vc.io import read_image
 from vc.scenes.loader import Scene
@@ -24,6 +25,8 @@ from vc.scenes.loader import Scene
 #: Frames of the scene's video that are measured, spread evenly over its first :data:`VIDEO_SPAN` frames.
 VIDEO_FRAMES = 24
 VIDEO_SPAN = 240
+#: The temporal noise estimate needs at least this many frames.
+MIN_VIDEO_FRAMES = 3
 #: A video's frames count as visibly block-compressed when their blockiness (8-pixel block boundaries over block
 #: interiors, ~1.0 without compression) exceeds the background's, with the frames' noise added, by this much.
 MIN_BLOCKINESS_EXCESS = 0.05
@@ -52,13 +55,15 @@ def _jpeg_dict(estimate: JpegEstimate) -> dict:
 
 
 def _video_frames(scene: Scene) -> list[np.ndarray]:
-    step = max(1, VIDEO_SPAN // VIDEO_FRAMES)
-    source = FrameSource(scene.video_path, FrameRange(1, VIDEO_SPAN, step))
+    """Up to :data:`VIDEO_FRAMES` frames spread over the first :data:`VIDEO_SPAN` (fewer in a shorter video)."""
+    span = min(VIDEO_SPAN, len(FrameSource(scene.video_path)))
+    source = FrameSource(scene.video_path, FrameRange(1, span, max(1, span // VIDEO_FRAMES)))
     frames = [frame.image for frame in source]
+    if len(frames) < MIN_VIDEO_FRAMES:
+        raise InputError(scene.path, "video", f"{scene.video_path.name} holds {len(frames)} readable frame(s); "
+                                              f"measuring the camera's noise needs at least {MIN_VIDEO_FRAMES}")
     sizes = {frame.shape[1::-1] for frame in frames}
     if sizes != {tuple(scene.camera.size)}:
-        from vc.errors import InputError
-
         raise InputError(scene.path, "video", f"frames are {sorted(sizes)}, the camera is "
                                               f"{scene.camera.width}x{scene.camera.height}")
     return frames
