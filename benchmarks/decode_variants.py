@@ -35,6 +35,9 @@ VARIANTS: dict[str, dict] = {
     "reach sideways 0.4": {"reach_sideways": 0.4},
     "keypoints >= 0.4 shape the box": {"keypoint_threshold": 0.4},
     "mask >= 0.7": {"mask_threshold": 0.7},
+    "sides within 1.5x": {"max_side_ratio": 1.5},
+    "sides within 1.2x": {"max_side_ratio": 1.2},
+    "sides within 1.5x, reach 0.4": {"max_side_ratio": 1.5, "reach_sideways": 0.4},
 }
 
 

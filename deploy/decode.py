@@ -58,6 +58,10 @@ class DecodeConfig:
     reach_vertical: float = 0.6
     min_width: float = 0.25  # the narrowest box, in person heights
     side_margin: float = 0.03  # added around the keypoints and mask that set the box's width, in person heights
+    # Neither side of the box reaches further from the centre than this many times the other side (0: no limit):
+    # a person is about as wide left of their centre as right of it, and a neighbour's limbs or mask attached on
+    # one side must not drag the box over to them.
+    max_side_ratio: float = 0.0
 
 
 @dataclass
@@ -222,6 +226,8 @@ def _box(centre: np.ndarray, height_px: float, keypoints: np.ndarray, mask_cells
         xs += list(cells_to_input(np.array([columns[0] - 0.5, columns[-1] + 0.5]), config.stride))
     margin = config.side_margin * height_px
     half_min = config.min_width * height_px / 2
-    x0 = min(min(xs, default=centre[0]) - margin, centre[0] - half_min)
-    x1 = max(max(xs, default=centre[0]) + margin, centre[0] + half_min)
-    return np.array([x0, centre[1] - height_px / 2, x1, centre[1] + height_px / 2])
+    left = max(centre[0] - min(xs, default=centre[0]) + margin, half_min)
+    right = max(max(xs, default=centre[0]) - centre[0] + margin, half_min)
+    if config.max_side_ratio > 0:
+        left, right = min(left, config.max_side_ratio * right), min(right, config.max_side_ratio * left)
+    return np.array([centre[0] - left, centre[1] - height_px / 2, centre[0] + right, centre[1] + height_px / 2])

@@ -188,3 +188,18 @@ def test_noise_decodes_to_at_most_max_people_strongest_first() -> None:
     assert 0 < len(people) <= 25 < len(strongest)
     assert people[0].score == pytest.approx(strongest[0])
     assert np.all(np.diff([person.score for person in people]) <= 0)
+
+
+def test_a_neighbours_mask_on_one_side_does_not_drag_the_box_over():
+    from vc.deploy.decode import _box
+
+    keypoints = np.zeros((17, 3))
+    keypoints[:, 0], keypoints[:, 2] = 100.0, 0.9  # every keypoint on the person's axis
+    mask = np.zeros((50, 50), bool)
+    mask[10:30, 22:31] = True  # cells 22-30 at stride 4: x 86-122, the person plus a neighbour's arm on the right
+    centre, height = np.array([100.0, 80.0]), 80.0
+    loose = _box(centre, height, keypoints, mask, DecodeConfig())
+    balanced = _box(centre, height, keypoints, mask, DecodeConfig(max_side_ratio=1.2))
+    assert loose[2] - 100.0 > 1.5 * (100.0 - loose[0])  # the mask reaches far to the right
+    assert balanced[2] - 100.0 == pytest.approx(1.2 * (100.0 - balanced[0]))
+    assert balanced[0] == pytest.approx(loose[0]) and balanced[2] < loose[2]
