@@ -1,9 +1,10 @@
 """The bundle an appliance embeds: ``manifest.json`` + ``models/<region>.onnx`` + ``models/<region>.heights.npy``,
 as a folder or a zip of one (numpy and the standard library only).
 
-Nothing is loaded before the whole bundle checks out: the format and its version, every field the runtime
-reads, every listed file present and matching its SHA-256. A bad bundle is refused with one
-:class:`~vc.errors.InputError` naming the file and the field.
+Nothing is loaded before the whole bundle checks out: with a public key, the manifest's signature
+(:mod:`vc.deploy.signing`); the format and its version, every field the runtime reads, every listed file present,
+inside the bundle and matching its SHA-256. A bad bundle is refused with one :class:`~vc.errors.InputError`
+naming the file and the field.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from pathlib import Path, PurePosixPath, PureWindowsPath
 import numpy as np
 
 from vc.deploy.decode import DecodeConfig
+from vc.deploy.signing import SIGNATURE, verify_manifest
 from vc.errors import InputError
 
 BUNDLE_FORMAT = "visual-compiler bundle"
@@ -84,6 +86,11 @@ class _Files:
             if not (self.path / name).resolve().is_relative_to(root):
                 raise InputError(self.path, field, f"{name} leads outside the bundle (a symbolic link)")
 
+    def has(self, name: str) -> bool:
+        if self.archive is not None:
+            return name in self.archive.namelist()
+        return (self.path / name).is_file()
+
     def read(self, name: str, field: str) -> bytes:
         self._check_member(name, field)
         try:
@@ -116,12 +123,17 @@ def _checked(files: _Files, entry: dict, key: str, where: str) -> bytes:
     return data
 
 
-def load_bundle(path: str | Path) -> Bundle:
-    """Validate and read a bundle folder or zip (see the module docstring)."""
+def load_bundle(path: str | Path, public_key: Path | bytes | None = None) -> Bundle:
+    """Validate and read a bundle folder or zip (see the module docstring); with ``public_key`` (a PEM file or its
+    bytes), only a bundle whose manifest that key's owner signed."""
     path = Path(path)
     files = _Files(path)
+    manifest_bytes = files.read(MANIFEST, "")
+    if public_key is not None:
+        signature = files.read(SIGNATURE, SIGNATURE) if files.has(SIGNATURE) else None
+        verify_manifest(manifest_bytes, signature, public_key, path)
     try:
-        manifest = json.loads(files.read(MANIFEST, ""))
+        manifest = json.loads(manifest_bytes)
     except json.JSONDecodeError as error:
         raise InputError(path, MANIFEST, f"not valid JSON ({error})") from None
     if not isinstance(manifest, dict) or manifest.get("format") != BUNDLE_FORMAT:

@@ -152,11 +152,15 @@ class Runtime:
     that many threads, one intra-op thread each; otherwise one after the other, each with all ``threads``. The
     default (None) runs regions in parallel when there are several: a region's network alone does not keep two
     cores busy (PETS09, int8, 2 cores: 21 ms per frame in parallel, 28 ms in turn; benchmarks/runtime_latency.py).
+    ``public_key``: a PEM Ed25519 public key (file or bytes); the bundle then loads only if its manifest is signed
+    by it (:mod:`vc.deploy.signing`).
     """
 
     def __init__(self, bundle: Bundle | str | Path, threads: int | None = None,
-                 parallel_regions: bool | None = None):
-        self.bundle = bundle if isinstance(bundle, Bundle) else load_bundle(bundle)
+                 parallel_regions: bool | None = None, public_key: Path | bytes | None = None):
+        if isinstance(bundle, Bundle) and public_key is not None:
+            raise ValueError("a public key checks a bundle as it is loaded: give the bundle's path")
+        self.bundle = bundle if isinstance(bundle, Bundle) else load_bundle(bundle, public_key)
         cores = os.cpu_count() or 1
         if parallel_regions is None:
             parallel_regions = len(self.bundle.regions) > 1 and (threads or cores) > 1

@@ -26,6 +26,7 @@ from torch import Tensor, nn
 from vc.calibration.camera import camera_from_dict
 from vc.deploy.bundle import BUNDLE_FORMAT, BUNDLE_FORMAT_VERSION, MANIFEST, MODELS, sha256
 from vc.deploy.heatmaps import channel_names
+from vc.deploy.signing import SIGNATURE, sign_manifest
 from vc.errors import InputError
 from vc.io import atomic_directory, atomic_path
 from vc.keypoints import COCO_KEYPOINTS, COCO_SKELETON_1BASED
@@ -177,9 +178,14 @@ def bundle_files(run: Path, precision: str = "fp32", eval_samples: int = 200, ca
     return manifest, files
 
 
-def write_bundle(manifest: dict, files: dict[str, bytes], output: Path, as_zip: bool) -> None:
-    """Write the bundle folder (or zip) under a temporary name and rename it into place."""
-    documents = {MANIFEST: (json.dumps(manifest, indent=2) + "\n").encode(), **files}
+def write_bundle(manifest: dict, files: dict[str, bytes], output: Path, as_zip: bool,
+                 signing_key: Path | None = None) -> None:
+    """Write the bundle folder (or zip) under a temporary name and rename it into place; with ``signing_key`` (a
+    PEM Ed25519 private key), the manifest's signature too."""
+    manifest_bytes = (json.dumps(manifest, indent=2) + "\n").encode()
+    documents = {MANIFEST: manifest_bytes, **files}
+    if signing_key is not None:
+        documents[SIGNATURE] = sign_manifest(manifest_bytes, signing_key)
     if as_zip:
         with atomic_path(output) as temporary, zipfile.ZipFile(temporary, "w", zipfile.ZIP_DEFLATED) as archive:
             for name, data in documents.items():

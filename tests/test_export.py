@@ -3,6 +3,7 @@ format), the runtime's isolation from torch and mitsuba, frame checks and region
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import shutil
@@ -20,11 +21,13 @@ from conftest import SMALL
 from dataset_factory import INPUT_SIZE, region_camera, sample, write_dataset
 
 from vc.cli.export import main as vc_export
+from vc.cli.run import main as vc_run
 from vc.deploy.bundle import load_bundle
 from vc.deploy.decode import DecodeConfig, decode
 from vc.deploy.heatmaps import HEATMAP_CHANNELS, channel_names
 from vc.deploy.runtime import Runtime, in_area
 from vc.errors import InputError
+from vc.io import write_image
 from vc.model.data import open_region
 from vc.model.export import DeployedNetwork, bundle_files, export_onnx
 from vc.model.network import ScenePoseNet
@@ -254,3 +257,43 @@ def test_masks_map_cells_to_the_frame_pixels_they_cover(bundle):
     cell_of_pixel = cells[np.minimum(rows // stride, cells.shape[0] - 1), np.minimum(columns // stride,
                                                                                      cells.shape[1] - 1)]
     assert np.array_equal(frame, cell_of_pixel) and mask.shape == (6 * stride, 11 * stride)
+
+
+def _key_pair(folder: Path) -> tuple[Path, Path]:
+    from cryptography.hazmat.primitives import serialization
+    from cryptography.hazmat.primitives.asymmetric import ed25519
+
+    key = ed25519.Ed25519PrivateKey.generate()
+    private, public = folder / "key.pem", folder / "key.pub"
+    private.write_bytes(key.private_bytes(serialization.Encoding.PEM, serialization.PrivateFormat.PKCS8,
+                                          serialization.NoEncryption()))
+    public.write_bytes(key.public_key().public_bytes(serialization.Encoding.PEM,
+                                                     serialization.PublicFormat.SubjectPublicKeyInfo))
+    return private, public
+
+
+def test_a_signed_bundle_refuses_a_manifest_rewritten_with_matching_hashes(trained_run, tmp_path, capsys):
+    private, public = _key_pair(tmp_path)
+    signed = tmp_path / "signed"
+    assert vc_export([str(trained_run), "-o", str(signed), "--eval-samples", "0", "--sign", str(private)]) == 0
+    assert Runtime(signed, threads=1, public_key=public).bundle.regions  # signed by the key's owner: runs
+    # An attacker swaps a model and rewrites its hash in the manifest: the hashes agree, the signature does not.
+    forged = Path(shutil.copytree(signed, tmp_path / "forged"))
+    model = forged / "models" / "r0.onnx"
+    model.write_bytes(model.read_bytes() + b"\0")
+    manifest = json.loads((forged / "manifest.json").read_text())
+    manifest["regions"][0]["model_sha256"] = hashlib.sha256(model.read_bytes()).hexdigest()
+    (forged / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n")
+    assert load_bundle(forged).regions  # without a key, the hashes check out
+    with pytest.raises(InputError, match="signature does not match"):
+        load_bundle(forged, public_key=public)
+    # Unsigned, or signed by another key: refused too; vc-run says so in one line, status 2.
+    (tmp_path / "other").mkdir()
+    _, stranger = _key_pair(tmp_path / "other")
+    with pytest.raises(InputError, match="signature does not match"):
+        load_bundle(signed, public_key=stranger)
+    (forged / "manifest.sig").unlink()
+    frame = tmp_path / "frame.png"
+    write_image(frame, sample(region_camera(), 0).image)
+    assert vc_run([str(forged), str(frame), "-o", str(tmp_path / "run"), "--public-key", str(public)]) == 2
+    assert "not signed" in capsys.readouterr().err and not (tmp_path / "run").exists()

@@ -1,6 +1,6 @@
 """``vc-export``: a finished ``vc-train`` run as a bundle an appliance embeds.
 
-    vc-export RUN -o BUNDLE [--precision fp32|fp16|int8|auto] [--eval-samples N] [--zip]
+    vc-export RUN -o BUNDLE [--precision fp32|fp16|int8|auto] [--eval-samples N] [--zip] [--sign KEY.pem]
 
 Writes ``BUNDLE/manifest.json`` (format version, scene and its hash, the frame camera, keypoint names and skeleton,
 package versions, and per region: crop window, input size, ground polygon, owned image area, decode parameters,
@@ -8,7 +8,9 @@ precision, held-out accuracy of every precision, model and expected-height map w
 ``BUNDLE/models/<region>.onnx`` (uint8 crop in, heat maps out, opset 17), or one zip of the same with ``--zip``.
 Each region is measured at fp32, fp16 and int8 (static quantization calibrated on its training renders) on its
 held-out renders; ``auto`` keeps int8 where it holds and fp32 elsewhere. The bundle appears complete or not at
-all, and is loaded back through the runtime's own validation. Bad input prints one ``error:`` line and exits
+all, and is loaded back through the runtime's own validation. With ``--sign`` (an Ed25519 private key, PEM) the
+manifest is signed (``manifest.sig``): ``vc-run --public-key`` and ``Runtime(..., public_key=...)`` then refuse
+any bundle whose manifest was rewritten. Bad input prints one ``error:`` line and exits
 with status 2.
 """
 
@@ -20,6 +22,7 @@ from pathlib import Path
 from vc import __version__
 from vc.cli.common import handles_input_errors, non_negative_int, positive_int
 from vc.deploy.bundle import load_bundle
+from vc.deploy.signing import sign_manifest
 from vc.model.export import bundle_files, write_bundle
 from vc.model.precision import PRECISIONS
 
@@ -36,6 +39,8 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--calibration-samples", type=positive_int, default=64,
                         help="training renders per region that calibrate int8 (default 64)")
     parser.add_argument("--zip", action="store_true", help="write one zip file instead of a folder")
+    parser.add_argument("--sign", type=Path, metavar="KEY.pem",
+                        help="sign the manifest with this Ed25519 private key (openssl genpkey -algorithm ed25519)")
     parser.add_argument("--quiet", action="store_true", help="no progress bars")
     return parser
 
@@ -59,9 +64,11 @@ def _accuracy_table(manifest: dict) -> list[str]:
 @handles_input_errors
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
+    if args.sign is not None:
+        sign_manifest(b"", args.sign)  # a bad key is refused before the export's work, not after
     manifest, files = bundle_files(args.run, args.precision, args.eval_samples, args.calibration_samples,
                                    show_progress=not args.quiet)
-    write_bundle(manifest, files, args.output, args.zip)
+    write_bundle(manifest, files, args.output, args.zip, args.sign)
     bundle = load_bundle(args.output)
     size = sum(len(data) for data in files.values())
     print(f"vc-export: {len(bundle.regions)} region(s) of scene {manifest['scene']!r} -> {args.output} "

@@ -1,7 +1,7 @@
 """``vc-run``: a bundle on real frames, as an appliance would run it.
 
     vc-run BUNDLE INPUT -o OUT [--frames first:last:step] [--overlay] [--threads N] [--[no-]parallel-regions]
-           [--quiet]
+           [--public-key KEY.pub] [--quiet]
 
 INPUT is an image, a folder of images or a video file. Writes ``OUT/detections.jsonl`` (one line per frame: its
 number, name and people with box, score, 17 keypoints with confidences and mask area), ``OUT/summary.json``
@@ -43,6 +43,8 @@ def _parser() -> argparse.ArgumentParser:
                         help="first:last:step, 1-based and inclusive (default: all)")
     parser.add_argument("--overlay", action="store_true", help="also write the frames drawn with their detections")
     parser.add_argument("--threads", type=positive_int, default=None, help="onnxruntime threads (default: all cores)")
+    parser.add_argument("--public-key", type=Path, default=None, metavar="KEY.pub",
+                        help="run the bundle only if its manifest is signed by this Ed25519 public key (PEM)")
     parser.add_argument("--parallel-regions", action=argparse.BooleanOptionalAction, default=None,
                         help="run the regions at once, one thread each (default: when there are several)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -75,7 +77,8 @@ class _Overlays:
 @handles_input_errors
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
-    runtime = Runtime(args.bundle, threads=args.threads, parallel_regions=args.parallel_regions)
+    runtime = Runtime(args.bundle, threads=args.threads, parallel_regions=args.parallel_regions,
+                      public_key=args.public_key)
     source = FrameSource(args.input, args.frames)
     width, height = runtime.bundle.frame_size
     milliseconds, people_count = [], 0
