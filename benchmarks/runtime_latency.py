@@ -74,7 +74,7 @@ def _frames(run: Path, scene: Path, count: int) -> np.ndarray:
     from vc.selftest import composite_frame
 
     checkpoint = load_checkpoint(sorted((run / "checkpoints").glob("*.pt"))[0])
-    dataset = Path(checkpoint.content["dataset"])
+    dataset = checkpoint.dataset
     regions = [open_region(dataset, name) for name in read_manifest(dataset)["regions"]]
     background = read_image(load_scene(scene).image_path)
     return np.stack([composite_frame(background, regions, index).image for index in range(count)])

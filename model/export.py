@@ -116,7 +116,7 @@ def _evenly_spaced(samples: list, count: int) -> list:
 
 
 def _region_data(checkpoint: Checkpoint, config: TrainConfig) -> RegionData:
-    dataset = Path(checkpoint.content["dataset"])
+    dataset = checkpoint.dataset
     try:
         return open_region(dataset, checkpoint.content["region"], config.held_out_fraction)
     except InputError as error:

@@ -121,6 +121,12 @@ class Checkpoint:
     def step(self) -> int:
         return int(self.content["step"])
 
+    @property
+    def dataset(self) -> Path:
+        """The dataset the region was trained on. Stored relative to the run folder (checkpoints written before
+        were absolute), so a run moved together with its renders still finds them."""
+        return (self.path.parent.parent / self.content["dataset"]).resolve()
+
 
 def checkpoint_path(run: Path, region: str) -> Path:
     return run / "checkpoints" / f"{region}.pt"
@@ -222,7 +228,8 @@ class RegionTrainer:
         content = {
             "kind": CHECKPOINT_KIND, "format_version": CHECKPOINT_FORMAT,
             "scene": self.data.manifest["scene"], "scene_hash": self.data.manifest["scene_hash"],
-            "region": self.data.name, "region_entry": self.data.region, "dataset": str(self.dataset),
+            "region": self.data.name, "region_entry": self.data.region,
+            "dataset": os.path.relpath(Path(self.dataset).resolve(), Path(self.run).resolve()),
             "scene_camera": self.data.manifest.get("camera"),
             "dataset_settings": self.data.manifest["settings"], "train_config": self.config.to_dict(),
             "reference_height_m": self.reference_height_m, "step": self.step, "history": self.history,

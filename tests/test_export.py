@@ -32,7 +32,7 @@ from vc.model.data import open_region
 from vc.model.export import DeployedNetwork, bundle_files, export_onnx
 from vc.model.network import ScenePoseNet
 from vc.model.precision import auto_precision, to_fp16, to_int8
-from vc.model.train import RegionTrainer, for_network
+from vc.model.train import RegionTrainer, for_network, load_checkpoint
 
 
 def _trained_network(seed: int = 0) -> ScenePoseNet:
@@ -297,3 +297,15 @@ def test_a_signed_bundle_refuses_a_manifest_rewritten_with_matching_hashes(train
     write_image(frame, sample(region_camera(), 0).image)
     assert vc_run([str(forged), str(frame), "-o", str(tmp_path / "run"), "--public-key", str(public)]) == 2
     assert "not signed" in capsys.readouterr().err and not (tmp_path / "run").exists()
+
+
+def test_a_run_moved_with_its_renders_still_exports(trained_run, tmp_path):
+    moved = tmp_path / "elsewhere"
+    shutil.copytree(trained_run.parent / "dataset", moved / "dataset")
+    run = Path(shutil.copytree(trained_run, moved / "run"))
+    checkpoint = torch.load(run / "checkpoints" / "r0.pt", weights_only=True)
+    assert not Path(checkpoint["dataset"]).is_absolute()  # relative to the run folder
+    # The original renders are not where the moved run looks: it reads its own copy.
+    assert load_checkpoint(run / "checkpoints" / "r0.pt").dataset == (moved / "dataset").resolve()
+    assert vc_export([str(run), "-o", str(tmp_path / "bundle"), "--precision", "int8", "--eval-samples", "4",
+                      "--calibration-samples", "2"]) == 0
