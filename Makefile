@@ -10,7 +10,7 @@ LLVM_LIB := /usr/lib/x86_64-linux-gnu/libLLVM-19.so
 export DRJIT_LIBLLVM_PATH := $(LLVM_LIB)
 DEMO_OUT ?= out/demo
 
-.PHONY: install test test-fast demo lint clean
+.PHONY: install test test-hard test-fast demo lint clean
 
 install: $(STAMP)
 
@@ -30,6 +30,10 @@ $(STAMP): pyproject.toml $(LLVM_LIB)
 
 test: install
 	$(PY) -m pytest -q -n 2 --dist loadgroup
+
+# The hard-case properties at 10 000 examples each (the default run draws 200): tests/hard_cases/.
+test-hard: install
+	VC_HARD_CASES=thorough $(PY) -m pytest -q -n 2 tests/hard_cases
 
 # The inner loop while developing: skips tests marked slow (rendering).
 test-fast: install

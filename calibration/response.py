@@ -21,7 +21,8 @@ ENCODE_STEPS = 65535
 
 def _without_nan(values: np.ndarray, action: str, dtype: type = np.float64) -> np.ndarray:
     """``values`` as ``dtype``; NaN (a value that is no light at all) is an error, +-inf clips like any overflow."""
-    array = np.asarray(values, dtype)
+    with np.errstate(over="ignore"):  # beyond float32's range is +-inf, which clips like any overflow
+        array = np.asarray(values, dtype)
     if np.isnan(array).any():
         raise ValueError(f"{int(np.isnan(array).sum())} of {array.size} values are NaN and cannot be {action}")
     return array
