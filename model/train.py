@@ -24,7 +24,7 @@ from tqdm import tqdm
 
 from vc.calibration.camera import camera_from_dict
 from vc.deploy.decode import DecodeConfig
-from vc.errors import InputError
+from vc.errors import InputError, StageError
 from vc.io import atomic_path
 from vc.model.codec import CodecConfig, expected_height_map
 from vc.model.config import DEFAULT_ARCH, NetworkConfig, network_config
@@ -263,7 +263,11 @@ class RegionTrainer:
                 images, targets = images.to(self.device), targets.to(self.device)
                 loss, _ = scene_pose_loss(self.net(images), targets, self.config.loss)
                 if not torch.isfinite(loss):
-                    raise FloatingPointError(f"training loss became {float(loss)} at step {self.step}")
+                    saved = (f"the last good checkpoint ({self.path}, step {load_checkpoint(self.path).step}) is "
+                             f"kept" if self.path.is_file() else "no checkpoint was written yet")
+                    raise StageError(f"{self.data.name}: the training loss became {float(loss)} at step {self.step} "
+                                     f"and training stopped; {saved}. Nothing non-finite was saved: resume with a "
+                                     "lower learning rate, or check the renders")
                 self.optimizer.zero_grad(set_to_none=True)
                 loss.backward()
                 self.optimizer.step()

@@ -10,6 +10,8 @@ from pathlib import Path
 
 #: Exit status for bad input (files, fields, arguments), as argparse uses for bad arguments.
 EXIT_BAD_INPUT = 2
+#: Exit status for a stage that ran on good input and could not finish (training diverged).
+EXIT_STAGE_FAILED = 1
 
 
 class InputError(Exception):
@@ -24,3 +26,8 @@ class InputError(Exception):
     def __str__(self) -> str:
         parts = [p for p in (self.path, self.field) if p]
         return ": ".join(parts + [self.reason])
+
+
+class StageError(Exception):
+    """A stage that could not finish on good input (training diverged): one line saying what happened and what
+    was kept, exit status 1."""

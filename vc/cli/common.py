@@ -9,11 +9,12 @@ import logging
 import sys
 from collections.abc import Callable
 
-from vc.errors import EXIT_BAD_INPUT, InputError
+from vc.errors import EXIT_BAD_INPUT, EXIT_STAGE_FAILED, InputError, StageError
 
 
 def handles_input_errors(main: Callable[[list[str] | None], int]) -> Callable[[list[str] | None], int]:
-    """Turn an :class:`InputError` escaping ``main`` into one ``error:`` line on stderr and exit status 2."""
+    """Turn an :class:`InputError` escaping ``main`` into one ``error:`` line on stderr and exit status 2, a
+    :class:`StageError` into one line and status 1."""
 
     @functools.wraps(main)
     def wrapper(argv: list[str] | None = None) -> int:
@@ -23,6 +24,9 @@ def handles_input_errors(main: Callable[[list[str] | None], int]) -> Callable[[l
         except InputError as error:
             print(f"error: {error}", file=sys.stderr)
             return EXIT_BAD_INPUT
+        except StageError as error:
+            print(f"error: {error}", file=sys.stderr)
+            return EXIT_STAGE_FAILED
         except KeyboardInterrupt:
             print("interrupted", file=sys.stderr)
             return 130
