@@ -325,7 +325,8 @@ class Sweep:
                 self._timing_frames = [frame.image for frame in itertools.islice(source, TIMING_FRAMES)]
             else:
                 from vc.io import read_image
-                from vc.model.data import open_region, read_manifest
+                from vc.model.data import open_region
+                from vc.render.dataset import read_manifest
                 from vc.scenes.loader import load_scene
                 from vc.selftest import composite_frame
 
@@ -350,7 +351,8 @@ class Sweep:
     def composed(self, scene: Path, renders: Path, bundle: Path) -> dict:
         from vc.deploy.runtime import Runtime
         from vc.io import read_image
-        from vc.model.data import open_region, read_manifest
+        from vc.model.data import open_region
+        from vc.render.dataset import read_manifest
         from vc.scenes.loader import load_scene
         from vc.selftest import self_test
 

@@ -176,7 +176,22 @@ class Runtime:
             raise InputError(None, "frame", f"expected shape {(height, width, 3)} (the bundle's camera), got "
                                             f"{frame.shape}")
 
+    def close(self) -> None:
+        """Stop the regions' thread pool; the runtime runs no frame after. ``with Runtime(...) as runtime:``
+        closes it on leaving."""
+        if self.pool is not None:
+            self.pool.shutdown(wait=True)
+        self.pool, self.runners = None, []
+
+    def __enter__(self) -> Runtime:
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        self.close()
+
     def __call__(self, frame: np.ndarray) -> list[Person]:
+        if not self.runners:
+            raise RuntimeError("this runtime was closed")
         self.check_frame(frame)
         if self.pool is None:
             per_region = [runner.people(frame) for runner in self.runners]

@@ -24,7 +24,7 @@ from vc.deploy.heatmaps import PAIRS
 from vc.errors import InputError
 from vc.io import read_image
 from vc.model.codec import CodecConfig, encode
-from vc.render.dataset import ANNOTATIONS, MANIFEST
+from vc.render.dataset import ANNOTATIONS, MANIFEST, read_manifest
 
 
 @dataclass(frozen=True)
@@ -48,16 +48,6 @@ class RegionData:
     def input_size(self) -> tuple[int, int]:
         width, height = self.region["input_size"]
         return width, height
-
-
-def read_manifest(root: Path) -> dict:
-    path = root / MANIFEST
-    if not path.is_file():
-        raise InputError(path, "", "not a vc-render dataset (no manifest.json)")
-    try:
-        return json.loads(path.read_text())
-    except (OSError, json.JSONDecodeError) as error:
-        raise InputError(path, "", f"cannot read the dataset manifest ({error})") from None
 
 
 def _shard_samples(shard: Path, camera: Camera) -> list[Sample]:
@@ -140,12 +130,6 @@ class Augmentation:
 def read_sample(sample: Sample) -> tuple[np.ndarray, np.ndarray]:
     """A sample's image (H, W, 3) uint8 and instance map (H, W) uint8."""
     return read_image(sample.image_path), read_image(sample.mask_path)[..., 0]
-
-
-def load_sample(sample: Sample, codec: CodecConfig) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """A sample as (image (H, W, 3) float32 in [0, 1], instance map (H, W) uint8, heat-map targets)."""
-    image, instances = read_sample(sample)
-    return image.astype(np.float32) / 255.0, instances, encode(sample.annotations, instances, codec)
 
 
 def shifted(annotation: dict, dx: float, dy: float) -> dict:

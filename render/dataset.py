@@ -33,6 +33,8 @@ if TYPE_CHECKING:
 
 #: 2: the manifest records the render plan (light, camera measurements, effects with their parameters).
 FORMAT_VERSION = 2
+#: Dataset formats this version reads: 1 (before the render plan was recorded) differs from 2 only by it.
+READABLE_FORMAT_VERSIONS = (1, 2)
 MANIFEST = "manifest.json"
 ANNOTATIONS = "annotations.json"
 #: Annotation ids are sample index * this + instance id (a sample never holds this many people).
@@ -128,14 +130,23 @@ def shard_counts(root: Path, shard: Shard) -> dict:
     return {"samples": len(document["images"]), "people": len(document["annotations"])}
 
 
-def read_manifest(root: Path) -> dict | None:
-    path = root / MANIFEST
+def read_manifest(root: Path, missing_ok: bool = False) -> dict | None:
+    """The dataset manifest of ``root``, in a format this version reads (:data:`READABLE_FORMAT_VERSIONS`); None
+    when there is none and ``missing_ok`` (a render about to start), else an InputError."""
+    path = Path(root) / MANIFEST
     if not path.is_file():
-        return None
+        if missing_ok:
+            return None
+        raise InputError(path, "", "not a vc-render dataset (no manifest.json)")
     try:
-        return json.loads(path.read_text())
+        manifest = json.loads(path.read_text())
     except (OSError, json.JSONDecodeError) as error:
-        raise InputError(path, "", f"cannot read the existing dataset manifest ({error})") from None
+        raise InputError(path, "", f"cannot read the dataset manifest ({error})") from None
+    if not isinstance(manifest, dict) or manifest.get("format_version") not in READABLE_FORMAT_VERSIONS:
+        version = manifest.get("format_version") if isinstance(manifest, dict) else None
+        raise InputError(path, "format_version", f"unsupported dataset format {version!r} (this version reads "
+                                                 f"{', '.join(map(str, READABLE_FORMAT_VERSIONS))})")
+    return manifest
 
 
 def plan_entries(plan: dict) -> dict:

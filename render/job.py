@@ -75,7 +75,7 @@ def manifest(request: RenderRequest, counts: dict[str, dict] | None = None) -> d
 def render_dataset(request: RenderRequest, bodies: BodyModel | None = None, show_progress: bool = True) -> dict:
     """Render every missing shard of ``request``; returns the run summary (also written as JSON)."""
     root = request.output
-    existing = dataset.read_manifest(root)
+    existing = dataset.read_manifest(root, missing_ok=True)
     dataset.check_manifest(root, existing, manifest(request))
     dataset.write_manifest(root, manifest(request), existing)
     shards = {region.name: dataset.plan_shards(region.name, request.samples, request.shard_size)

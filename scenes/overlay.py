@@ -27,7 +27,6 @@ PALETTE = [(230, 25, 75), (60, 180, 75), (0, 130, 200), (245, 130, 48), (145, 30
 OBSTACLE_COLOUR = (255, 60, 60)
 WALL_COLOUR = (255, 170, 0)
 WALKABLE_COLOUR = (80, 255, 120)
-FIGURE_COLOUR = (255, 255, 255)
 DRAWN_COLOUR = (255, 255, 255)
 #: A 1.75 m stick figure in a local frame (x: the figure's right, z: up), metres. Head drawn separately.
 FIGURE_BONES = np.array([

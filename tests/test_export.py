@@ -309,3 +309,12 @@ def test_a_run_moved_with_its_renders_still_exports(trained_run, tmp_path):
     assert load_checkpoint(run / "checkpoints" / "r0.pt").dataset == (moved / "dataset").resolve()
     assert vc_export([str(run), "-o", str(tmp_path / "bundle"), "--precision", "int8", "--eval-samples", "4",
                       "--calibration-samples", "2"]) == 0
+
+
+def test_a_closed_runtime_has_shut_its_threads_and_runs_no_frame(bundle):
+    with Runtime(bundle, threads=2, parallel_regions=True) as runtime:
+        pool = runtime.pool
+        assert isinstance(runtime(sample(region_camera(), 0).image), list)
+    assert pool._shutdown and runtime.pool is None
+    with pytest.raises(RuntimeError, match="closed"):
+        runtime(sample(region_camera(), 0).image)

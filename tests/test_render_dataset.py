@@ -22,7 +22,7 @@ from pycocotools.cocoeval import COCOeval
 from scene_factory import base_scene, write_scene
 
 from vc.cli import render as render_cli
-from vc.errors import EXIT_BAD_INPUT
+from vc.errors import EXIT_BAD_INPUT, InputError
 from vc.io import read_image
 from vc.render import dataset, job
 from vc.render.job import RenderRequest, render_dataset
@@ -264,3 +264,11 @@ def test_a_scene_without_walkable_area_in_view_is_refused(tmp_path, capsys) -> N
     error = capsys.readouterr().err
     assert "layout.walkable" in error and str(path) in error
     assert not (tmp_path / "out").exists()
+
+
+def test_a_dataset_of_an_unknown_format_is_refused_by_the_trainer(tmp_path):
+    from vc.model.data import open_region
+
+    (tmp_path / "manifest.json").write_text(json.dumps({"format_version": 99, "regions": {}}))
+    with pytest.raises(InputError, match="unsupported dataset format 99"):
+        open_region(tmp_path, "r0")

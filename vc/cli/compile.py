@@ -137,13 +137,14 @@ class _Compile:
 
     def self_test(self) -> dict:
         from vc.deploy.runtime import Runtime
-        from vc.model.data import open_region, read_manifest
+        from vc.model.data import open_region
+        from vc.render.dataset import read_manifest
         from vc.selftest import self_test
 
         renders = self.out / "renders"
         regions = [open_region(renders, name) for name in read_manifest(renders)["regions"]]
-        result = self_test(Runtime(self.out / "bundle"), read_image(self.scene.image_path), regions,
-                           self.budget.selftest_frames)
+        with Runtime(self.out / "bundle") as runtime:
+            result = self_test(runtime, read_image(self.scene.image_path), regions, self.budget.selftest_frames)
         write_image(self.out / "overlay.png", result.overlay)
         return result.to_dict()
 

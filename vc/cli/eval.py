@@ -193,6 +193,7 @@ def main(argv: list[str] | None = None) -> int:
             records[name].add(boxes_truth, detections, time.perf_counter() - start)
         if index in sheet_numbers:
             sheet.append(draw_people(frame.image, people, truth_boxes=boxes_truth))
+    runtime.close()
     evaluations = {name: evaluate(record.images) for name, record in records.items()}
     areas = {entry.name: entry.owned_image_area for entry in runtime.bundle.regions}
     misses = analyse_misses(records[OURS].images, list(people_by_frame), region_lookup(areas))

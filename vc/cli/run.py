@@ -77,39 +77,39 @@ class _Overlays:
 @handles_input_errors
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
-    runtime = Runtime(args.bundle, threads=args.threads, parallel_regions=args.parallel_regions,
-                      public_key=args.public_key)
-    source = FrameSource(args.input, args.frames)
-    width, height = runtime.bundle.frame_size
-    milliseconds, people_count = [], 0
-    with atomic_directory(args.output) as staging, open(staging / DETECTIONS, "w") as lines:
-        overlays = _Overlays(staging, source, (width, height)) if args.overlay else None
-        try:
-            for frame in tqdm(source, total=len(source), desc="vc-run", unit="frame", disable=args.quiet):
-                if frame.image.shape != (height, width, 3):
-                    raise InputError(args.input, f"frame {frame.number} ({frame.name})",
-                                     f"is {frame.image.shape[1]}x{frame.image.shape[0]}, the bundle's camera is "
-                                     f"{width}x{height}")
-                start = time.perf_counter()
-                people = runtime(frame.image)
-                milliseconds.append((time.perf_counter() - start) * 1e3)
-                people_count += len(people)
-                lines.write(json.dumps({"frame": frame.number, "name": frame.name,
-                                        "people": [person.to_dict() for person in people]}) + "\n")
+    with Runtime(args.bundle, threads=args.threads, parallel_regions=args.parallel_regions,
+                 public_key=args.public_key) as runtime:
+        source = FrameSource(args.input, args.frames)
+        width, height = runtime.bundle.frame_size
+        milliseconds, people_count = [], 0
+        with atomic_directory(args.output) as staging, open(staging / DETECTIONS, "w") as lines:
+            overlays = _Overlays(staging, source, (width, height)) if args.overlay else None
+            try:
+                for frame in tqdm(source, total=len(source), desc="vc-run", unit="frame", disable=args.quiet):
+                    if frame.image.shape != (height, width, 3):
+                        raise InputError(args.input, f"frame {frame.number} ({frame.name})",
+                                         f"is {frame.image.shape[1]}x{frame.image.shape[0]}, the bundle's camera is "
+                                         f"{width}x{height}")
+                    start = time.perf_counter()
+                    people = runtime(frame.image)
+                    milliseconds.append((time.perf_counter() - start) * 1e3)
+                    people_count += len(people)
+                    lines.write(json.dumps({"frame": frame.number, "name": frame.name,
+                                            "people": [person.to_dict() for person in people]}) + "\n")
+                    if overlays:
+                        overlays.add(frame, draw_people(frame.image, people))
+            finally:
                 if overlays:
-                    overlays.add(frame, draw_people(frame.image, people))
-        finally:
-            if overlays:
-                overlays.close()
-        summary = {
-            "bundle": str(args.bundle), "scene": runtime.bundle.manifest["scene"], "input": str(args.input),
-            "input_kind": source.kind, "frames": len(milliseconds), "people": people_count,
-            "regions": [{"name": r.name, "precision": r.precision} for r in runtime.bundle.regions],
-            "threads": args.threads, "parallel_regions": runtime.pool is not None,
-            "ms_per_frame": {"mean": float(np.mean(milliseconds)), "median": float(np.median(milliseconds)),
-                             "p90": float(np.percentile(milliseconds, 90))},
-        }
-        write_json(staging / SUMMARY, summary)
+                    overlays.close()
+            summary = {
+                "bundle": str(args.bundle), "scene": runtime.bundle.manifest["scene"], "input": str(args.input),
+                "input_kind": source.kind, "frames": len(milliseconds), "people": people_count,
+                "regions": [{"name": r.name, "precision": r.precision} for r in runtime.bundle.regions],
+                "threads": args.threads, "parallel_regions": runtime.pool is not None,
+                "ms_per_frame": {"mean": float(np.mean(milliseconds)), "median": float(np.median(milliseconds)),
+                                 "p90": float(np.percentile(milliseconds, 90))},
+            }
+            write_json(staging / SUMMARY, summary)
     timing = summary["ms_per_frame"]
     print(f"vc-run: {summary['frames']} frame(s), {people_count} people, {timing['median']:.1f} ms/frame median "
           f"({timing['mean']:.1f} mean, first frame included) -> {args.output}")

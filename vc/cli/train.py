@@ -23,9 +23,10 @@ from vc.deploy.metrics import Evaluation
 from vc.errors import InputError
 from vc.io import write_json
 from vc.model.config import DEFAULT_ARCH, PRESETS, network_config
-from vc.model.data import open_region, read_manifest
+from vc.model.data import open_region
 from vc.model.train import RegionResult, RegionTrainer, TrainConfig, for_network, select_device
 from vc.plots import plot_precision_recall
+from vc.render.dataset import read_manifest
 
 METRICS = "metrics.json"
 
