@@ -38,6 +38,9 @@ VARIANTS: dict[str, dict] = {
     "sides within 1.5x": {"max_side_ratio": 1.5},
     "sides within 1.2x": {"max_side_ratio": 1.2},
     "sides within 1.5x, reach 0.4": {"max_side_ratio": 1.5, "reach_sideways": 0.4},
+    "split by heads >= 0.3": {"split_by_heads": 0.3},
+    "split by heads >= 0.5": {"split_by_heads": 0.5},
+    "split by heads >= 0.3, sides within 1.5x": {"split_by_heads": 0.3, "max_side_ratio": 1.5},
 }
 
 

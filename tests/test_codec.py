@@ -203,3 +203,26 @@ def test_a_neighbours_mask_on_one_side_does_not_drag_the_box_over():
     assert loose[2] - 100.0 > 1.5 * (100.0 - loose[0])  # the mask reaches far to the right
     assert balanced[2] - 100.0 == pytest.approx(1.2 * (100.0 - balanced[0]))
     assert balanced[0] == pytest.approx(loose[0]) and balanced[2] < loose[2]
+
+
+def test_two_heads_over_one_merged_centre_peak_are_two_people():
+    from vc.deploy.heatmaps import KEYPOINT_CHANNELS
+
+    height_cells, stride = 20.0, 4
+    maps = np.zeros((HEATMAP_CHANNELS, 40, 40), np.float32)
+    rows, columns = np.indices((40, 40))
+
+    def bump(y: float, x: float, sigma: float = 1.0) -> np.ndarray:
+        return np.exp(-((rows - y) ** 2 + (columns - x) ** 2) / (2 * sigma**2)).astype(np.float32)
+
+    maps[CENTRE_CHANNEL] = bump(20, 20, 2.5)  # one peak between two people at columns 17 and 23
+    head_row = 20 - 0.43 * height_cells
+    nose = KEYPOINT_CHANNELS.start
+    maps[nose] = np.maximum(bump(head_row, 17), bump(head_row, 23))
+    heights = np.full((40, 40), height_cells * stride)
+    assert len(decode(maps, DecodeConfig(), heights)) == 1
+    split = decode(maps, DecodeConfig(split_by_heads=0.3), heights)
+    assert sorted(round(person.centre[0] / stride) for person in split) == [17, 23]
+    # One head (its eyes and ears a little apart) stays one person.
+    maps[nose] = np.maximum(bump(head_row, 19.5), 0.9 * bump(head_row, 21))
+    assert len(decode(maps, DecodeConfig(split_by_heads=0.3), heights)) == 1
