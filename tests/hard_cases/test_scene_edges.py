@@ -1,0 +1,60 @@
+"""Scenes at the edge of what a camera can be: each is planned (vc-scene check: regions whose people are in
+range) or refused with one clear line, never a traceback."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from scene_factory import base_scene, write_scene
+
+from vc.calibration.camera import look_at
+from vc.cli.scene import main as vc_scene
+
+
+def _looking(eye, target, focal: float = 300.0, distortion: dict | None = None) -> dict:
+    scene = base_scene()
+    rotation, translation = look_at(eye, target)
+    scene["camera"].update(R=rotation.tolist(), t=translation.tolist(),
+                           K=[[focal, 0.0, 159.5], [0.0, focal, 119.5], [0.0, 0.0, 1.0]],
+                           distortion=distortion or {"model": "none"})
+    return scene
+
+
+PLANNED = {
+    "strong wide-angle distortion (Town Centre-like k1, k2)": _looking(
+        [0.0, -12.0, 6.0], [0.0, 8.0, 0.0], distortion={"model": "opencv", "k": [-0.6, 4.7, 0.0, 0.0, 0.0]}),
+    "near-horizontal camera, horizon across the walkable area": _looking([0.0, -12.0, 1.6], [0.0, 20.0, 1.4]),
+    "top-down camera": _looking([0.0, 6.0, 12.0], [0.0, 6.01, 0.0]),
+    "tiny people (16-25 px, a short lens)": _looking([0.0, -14.0, 6.0], [0.0, 8.0, 0.0], focal=150.0),
+    "huge people (close, long lens)": _looking([0.0, -6.0, 2.0], [0.0, 0.0, 0.8], focal=400.0),
+}
+PLANNED["walkable area mostly out of view"] = {**base_scene(), "layout": {
+    **base_scene()["layout"], "walkable": [[[-200.0, -200.0], [200.0, -200.0], [200.0, 200.0], [-200.0, 200.0]]]}}
+PLANNED["part of the ground behind a wall taller than anyone"] = {**base_scene(), "layout": {
+    **base_scene()["layout"], "walls": [{"start": [-8.0, 6.0], "end": [8.0, 6.0], "height": 4.0}]}}
+REFUSED = {
+    "a camera looking at the sky": (_looking([0.0, -12.0, 2.0], [0.0, 10.0, 12.0]), "no walkable area is in view"),
+    "people under 16 px everywhere (a camera far off)": (
+        _looking([0.0, -60.0, 10.0], [0.0, 8.0, 0.0], focal=150.0), "where people are >= 16 px tall"),
+}
+
+
+@pytest.mark.parametrize("case", list(PLANNED))
+def test_edge_cameras_are_planned_with_people_in_range(tmp_path, capsys, case):
+    path = write_scene(tmp_path, PLANNED[case])
+    assert vc_scene(["check", str(path), "--json", str(tmp_path / "summary.json")]) == 0, capsys.readouterr().err
+    regions = json.loads((tmp_path / "summary.json").read_text())["regions"]
+    assert regions
+    for region in regions:
+        low, high = region["person_height_px"]
+        assert np.isfinite([low, high]).all() and 0 < low <= high
+
+
+@pytest.mark.parametrize("case", list(REFUSED))
+def test_impossible_cameras_are_refused_in_one_line(tmp_path, capsys, case):
+    scene, message = REFUSED[case]
+    assert vc_scene(["check", str(write_scene(tmp_path, scene))]) == 2
+    error = capsys.readouterr().err.strip()
+    assert len(error.splitlines()) == 1 and message in error
