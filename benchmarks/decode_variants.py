@@ -31,16 +31,11 @@ from vc.mot import read_mot_boxes
 VARIANTS: dict[str, dict] = {
     "centre separation 0.10": {"min_centre_separation": 0.10},
     "centre separation 0.25": {"min_centre_separation": 0.25},
-    "reach sideways 0.2": {"reach_sideways": 0.2},
-    "reach sideways 0.4": {"reach_sideways": 0.4},
+    "reach sideways 0.15": {"reach_sideways": 0.15},
+    "reach sideways 0.25": {"reach_sideways": 0.25},
+    "reach sideways 0.3": {"reach_sideways": 0.3},
     "keypoints >= 0.4 shape the box": {"keypoint_threshold": 0.4},
     "mask >= 0.7": {"mask_threshold": 0.7},
-    "sides within 1.5x": {"max_side_ratio": 1.5},
-    "sides within 1.2x": {"max_side_ratio": 1.2},
-    "sides within 1.5x, reach 0.4": {"max_side_ratio": 1.5, "reach_sideways": 0.4},
-    "split by heads >= 0.3": {"split_by_heads": 0.3},
-    "split by heads >= 0.5": {"split_by_heads": 0.5},
-    "split by heads >= 0.3, sides within 1.5x": {"split_by_heads": 0.3, "max_side_ratio": 1.5},
 }
 
 

@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 import torch
+from torch.torch_version import TorchVersion
 from torch.utils.data import DataLoader
 from tqdm import tqdm
 
@@ -138,7 +139,9 @@ def load_checkpoint(path: Path, scene_hash: str | None = None, region: str | Non
     Only tensors and plain data (dicts, lists, strings, numbers) are read (``weights_only``): unpickling anything
     else could run code a hostile file brings, and a checkpoint this version writes holds nothing else."""
     try:
-        content = torch.load(path, map_location="cpu", weights_only=True)
+        # TorchVersion (a str) is the one object checkpoints written before this rule hold: allowed by name.
+        with torch.serialization.safe_globals([TorchVersion]):
+            content = torch.load(path, map_location="cpu", weights_only=True)
     except FileNotFoundError:
         raise InputError(path, "", "checkpoint not found") from None
     except pickle.UnpicklingError as error:
@@ -214,7 +217,9 @@ class RegionTrainer:
             self._resume(load_checkpoint(self.path, data.manifest["scene_hash"], data.name))
 
     def _resume(self, checkpoint: Checkpoint) -> None:
-        changes = _differences(checkpoint.content["train_config"], self.config.to_dict())
+        # The decoder only scores held-out renders: a run resumes under another decoder's settings.
+        changes = [change for change in _differences(checkpoint.content["train_config"], self.config.to_dict())
+                   if not change.startswith("decode.")]
         if changes:
             raise InputError(checkpoint.path, "train_config", "this run was started with other settings ("
                              + "; ".join(changes) + "); resume with the same options or use a new run folder")

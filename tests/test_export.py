@@ -318,3 +318,12 @@ def test_a_closed_runtime_has_shut_its_threads_and_runs_no_frame(bundle):
     assert pool._shutdown and runtime.pool is None
     with pytest.raises(RuntimeError, match="closed"):
         runtime(sample(region_camera(), 0).image)
+
+
+def test_a_checkpoint_written_before_the_rule_still_loads(trained_run, tmp_path):
+    from torch.torch_version import TorchVersion
+
+    checkpoint = torch.load(trained_run / "checkpoints" / "r0.pt", weights_only=True)
+    checkpoint["versions"] = {"torch": TorchVersion(torch.__version__)}  # what checkpoints held before
+    torch.save(checkpoint, tmp_path / "old.pt")
+    assert load_checkpoint(tmp_path / "old.pt").step == checkpoint["step"]
