@@ -75,8 +75,11 @@ class Response:
         return np.round(self._curve_encode(values) * 255.0).astype(np.uint8)
 
     def encode(self, linear: np.ndarray) -> np.ndarray:
-        """Linear image -> uint8, clipped to the sensor's range as a camera does (through a table: within one
-        8-bit level of :meth:`encode_exact`)."""
+        """Linear image -> uint8, clipped to the sensor's range as a camera does: through a table (within one
+        8-bit level of :meth:`encode_exact`) for sRGB and linear; a pure power law starts too steeply for a 16-bit
+        table (gamma 2.6 puts level 2 at linear 3e-6, below its first step), so it goes through the curve."""
+        if self.gamma is not None:
+            return self.encode_exact(linear)
         steps = np.clip(_without_nan(linear, "encoded", np.float32), 0.0, 1.0) * np.float32(ENCODE_STEPS) \
             + np.float32(0.5)
         return self._encode_table[steps.astype(np.int32)]

@@ -270,7 +270,7 @@ class RegionTrainer:
                 if not torch.isfinite(loss):
                     saved = (f"the last good checkpoint ({self.path}, step {load_checkpoint(self.path).step}) is "
                              f"kept" if self.path.is_file() else "no checkpoint was written yet")
-                    raise StageError(f"{self.data.name}: the training loss became {float(loss)} at step {self.step} "
+                    raise StageError(f"{self.data.name}: the training loss became {loss.item()} at step {self.step} "
                                      f"and training stopped; {saved}. Nothing non-finite was saved: resume with a "
                                      "lower learning rate, or check the renders")
                 self.optimizer.zero_grad(set_to_none=True)
