@@ -34,9 +34,18 @@ def _visible_ground(camera, step: int = 4) -> shapely.Polygon:
     return shapely.Polygon(hit.points[:, :2])
 
 
+def _pets_document() -> dict:
+    """PETS09's scene without its data files (the image and video are not shipped: not needed here)."""
+    document = yaml.safe_load(PETS.read_text())
+    document["image"] = str((PETS.parent / document["image"]).resolve())
+    document.pop("video")
+    return document
+
+
 def _redrawn_in_pixels(tmp_path: Path) -> tuple[Path, object, shapely.Geometry]:
     """PETS09's scene with its layout re-authored in pixels, the metric scene, and its walkable ground in view."""
-    scene = load_scene(PETS, require_image=False)
+    (tmp_path / "metric.yaml").write_text(yaml.safe_dump(_pets_document(), sort_keys=False))
+    scene = load_scene(tmp_path / "metric.yaml", require_image=False)
     camera, layout = scene.camera, scene.layout
     in_view = layout.walkable_area().intersection(_visible_ground(camera))
     obstacles = []
@@ -50,9 +59,7 @@ def _redrawn_in_pixels(tmp_path: Path) -> tuple[Path, object, shapely.Geometry]:
                               "height": obstacle.size[2], "bottom": obstacle.bottom})
     walls = [{"start": _pixels(camera, np.array([wall.start]))[0], "end": _pixels(camera, np.array([wall.end]))[0],
               "height": wall.height, "thickness": wall.thickness} for wall in layout.walls]
-    document = yaml.safe_load(PETS.read_text())
-    document["image"] = str((PETS.parent / document["image"]).resolve())
-    document.pop("video")
+    document = _pets_document()
     document["layout"] = {"frame": "image", "walkable": [_pixels(camera, np.asarray(in_view.exterior.coords)[:-1])],
                           "obstacles": obstacles, "walls": walls}
     path = tmp_path / "scene.yaml"
@@ -78,9 +85,7 @@ def test_pets09_redrawn_in_pixels_lands_within_5_cm_of_its_metric_layout(tmp_pat
 
 
 def test_a_pixel_above_the_horizon_is_refused_by_name(tmp_path):
-    document = yaml.safe_load(PETS.read_text())
-    document["image"] = str((PETS.parent / document["image"]).resolve())
-    document.pop("video")
+    document = _pets_document()
     document["layout"] = {"frame": "image", "walkable": [[[100, 500], [600, 500], [600, 300]]],
                           "walls": [{"start": [100, 400], "end": [300, -4000], "height": 3.0}]}
     (tmp_path / "scene.yaml").write_text(yaml.safe_dump(document))
