@@ -5,7 +5,7 @@ keypoint where a pose model trained on real photos (a YOLO-pose ONNX model throu
 it:
 
 1. Each detector keeps its detections at its own operating point (the score threshold of best F1,
-   :func:`vc.deploy.misses.operating_threshold`) and is matched to the ground-truth boxes at IoU >= 0.5
+   :func:`vc.deploy.misses.operating_point`) and is matched to the ground-truth boxes at IoU >= 0.5
    (:func:`vc.deploy.metrics.evaluate`'s greedy matching).
 2. On every ground-truth person both detectors found, each keypoint the reference is confident of (confidence >=
    :data:`REFERENCE_CONFIDENCE`) is compared with the other detector's: it agrees when within
@@ -26,8 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vc.deploy.metrics import HEAD_FRACTION_OF_HEIGHT, ImageResult, evaluate
-from vc.deploy.misses import operating_threshold
+from vc.deploy.metrics import HEAD_FRACTION_OF_HEIGHT, ImageResult
+from vc.deploy.misses import operating_point
 from vc.keypoints import COCO_KEYPOINTS
 
 #: The reference's keypoints at or above this confidence are compared.
@@ -63,18 +63,11 @@ class PoseAgreement:
 
 def matched_people(images: Sequence[ImageResult]) -> list[dict[int, int]]:
     """Per image, ground-truth index -> detection index of the people found at the operating point."""
-    evaluation = evaluate(list(images))
-    best = operating_threshold(evaluation)
-    if best is None:
+    point = operating_point(images)
+    if point is None:
         return [{} for _ in images]
-    threshold = evaluation.scores[best]
-    matches = []
-    for image in images:
-        kept = np.nonzero(image.scores >= threshold)[0]
-        pairs = evaluate([ImageResult(image.truth_boxes, image.boxes[kept], image.scores[kept],
-                                      truth_ignore=image.truth_ignore)]).matches[0]
-        matches.append({truth: int(kept[detection]) for truth, detection in pairs})
-    return matches
+    return [{truth: int(kept[detection]) for truth, detection in matches.items()}
+            for kept, matches in zip(point.kept, point.matches, strict=True)]
 
 
 def pose_agreement(candidate: Sequence[ImageResult], reference: Sequence[ImageResult]) -> PoseAgreement:

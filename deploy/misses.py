@@ -193,23 +193,47 @@ class MissAnalysis:
                 "recall_by_overlap": self.recall_by_group(), "recall_by_region": self.recall_by_region()}
 
     def to_dict(self) -> dict:
+        errors = self.frame_errors()
         return {**self.summary(),
                 "outcomes_by_overlap": {"apart": self.outcomes(False), "overlapping another": self.outcomes(True)},
                 "near_miss_box_errors": self.near_miss_errors(),
                 "false_positive_kinds": self.false_positive_kinds(),
-                "worst_frames": [{"frame": frame, "errors": self.frame_errors()[frame]}
-                                 for frame in self.worst_frames(10)],
+                "worst_frames": [{"frame": frame, "errors": errors[frame]} for frame in self.worst_frames(10)],
                 "people": [person.to_dict() for person in self.people if person.outcome != "found"],
                 "false_positive_list": [fp.to_dict() for fp in self.false_positives]}
 
 
-def operating_threshold(evaluation: Evaluation) -> int | None:
-    """Index along the ranked detections of the best F1 (None without detections)."""
+@dataclass(frozen=True)
+class OperatingPoint:
+    """A detector's detections at its best-F1 score threshold, and whom they match in each image."""
+
+    evaluation: Evaluation
+    index: int  # along the ranked detections
+    kept: list[np.ndarray]  # per image: indices of the detections at or above the threshold
+    matches: list[dict[int, int]]  # per image: ground-truth index -> index into that image's kept detections
+
+    @property
+    def threshold(self) -> float:
+        return float(self.evaluation.scores[self.index])
+
+
+def operating_point(images: Sequence[ImageResult]) -> OperatingPoint | None:
+    """The score threshold of best F1 over ``images`` and the matches of the detections kept there (None without
+    detections). Matching is :func:`vc.deploy.metrics.evaluate`'s, image by image."""
+    evaluation = evaluate(list(images))
     if not len(evaluation.scores):
         return None
-    precision, recall = evaluation.precision, evaluation.recall
-    f1 = 2 * precision * recall / np.maximum(precision + recall, 1e-9)
-    return int(np.argmax(f1))
+    f1 = 2 * evaluation.precision * evaluation.recall / np.maximum(evaluation.precision + evaluation.recall, 1e-9)
+    best = int(np.argmax(f1))
+    threshold = evaluation.scores[best]
+    kept, matches = [], []
+    for image in images:
+        keep = np.nonzero(image.scores >= threshold)[0]
+        pairs = evaluate([ImageResult(image.truth_boxes, image.boxes[keep], image.scores[keep],
+                                      truth_ignore=image.truth_ignore)]).matches[0]
+        kept.append(keep)
+        matches.append(dict(pairs))
+    return OperatingPoint(evaluation, best, kept, matches)
 
 
 def grouped(boxes: np.ndarray) -> np.ndarray:
@@ -237,19 +261,14 @@ def analyse_misses(images: Sequence[ImageResult], frames: Sequence[int],
     """The operating point of ``images`` (one per frame number in ``frames``), every person and false positive
     sorted by kind. ``region_of`` maps foot points (N, 2) to region names (None: outside every region).
     None when there are no detections."""
-    evaluation = evaluate(list(images))
-    best = operating_threshold(evaluation)
-    if best is None:
+    point = operating_point(images)
+    if point is None:
         return None
-    threshold = float(evaluation.scores[best])
     people: list[PersonOutcome] = []
     false_positives: list[FalsePositive] = []
-    for image, frame in zip(images, frames, strict=True):
-        keep = image.scores >= threshold
+    for image, frame, keep, matched_truth in zip(images, frames, point.kept, point.matches, strict=True):
         boxes, scores = image.boxes[keep], image.scores[keep]
         truth = np.asarray(image.truth_boxes, np.float64).reshape(-1, 4)
-        pairs = evaluate([ImageResult(truth, boxes, scores, truth_ignore=image.truth_ignore)]).matches[0]
-        matched_truth = {t: d for t, d in pairs}
         matched_detections = set(matched_truth.values())
         found = np.isin(np.arange(len(truth)), list(matched_truth))
         iou = box_iou(truth, boxes)  # (people, detections)
@@ -279,8 +298,8 @@ def analyse_misses(images: Sequence[ImageResult], frames: Sequence[int],
                 continue  # someone we do not ask for, as in the AP
             kind = _false_positive_kind(box, truth, overlaps, found)
             false_positives.append(FalsePositive(int(frame), box, float(score), kind))
-    return MissAnalysis(threshold, float(evaluation.precision[best]), float(evaluation.recall[best]), people,
-                        false_positives)
+    return MissAnalysis(point.threshold, float(point.evaluation.precision[point.index]),
+                        float(point.evaluation.recall[point.index]), people, false_positives)
 
 
 def region_lookup(areas: Mapping[str, dict]) -> Callable[[np.ndarray], list[str | None]]:

@@ -40,6 +40,7 @@ from vc.calibration.readers import read_calibration
 from vc.errors import InputError
 from vc.frames import IMAGE_SUFFIXES
 from vc.io import read_image, write_image
+from vc.mot import read_mot_world
 from vc.scenes.background import median_background
 from vc.scenes.schema import Priors, RegionPlanSpec
 
@@ -65,7 +66,7 @@ class StarterScene:
     ground_points_path: Path | None = None  # points taken from a ground truth, for review
 
     def to_dict(self) -> dict:
-        result = {"scene": str(self.scene_path), "background": str(self.background_path),
+        result = {"scene": self.scene_path.name, "background": self.background_path.name,
                   "calibration": self.calibration_source, "camera": self.camera.to_dict(),
                   "camera_height_m": round(float(self.camera.center[2]), 3),
                   "walkable_px_vertices": len(self.walkable_px)}
@@ -81,26 +82,15 @@ def scene_name(folder: Path) -> str:
 
 
 def ground_points_from_mot(path: Path, image_height: int, margin_px: float = 2.0) -> tuple[np.ndarray, np.ndarray]:
-    """Foot pixels (N, 2) and ground points (N, 2 m) from a ground truth with world positions (columns 8-9):
-    the bottom centre of every box that ends at least ``margin_px`` above the image's bottom border."""
-    image, ground = [], []
-    for number, line in enumerate(Path(path).read_text().splitlines(), start=1):
-        if not line.strip() or line.lstrip().startswith("#"):
-            continue
-        fields = line.replace(" ", "").split(",")
-        try:
-            left, top, width, height, x, y = (float(fields[i]) for i in (2, 3, 4, 5, 7, 8))
-        except (ValueError, IndexError):
-            raise InputError(path, f"line {number}", "expected frame,id,left,top,width,height,conf,x,y,z with the "
-                                                     "ground position in x, y") from None
-        if not np.isfinite([left, top, width, height, x, y]).all() or x == -1 and y == -1:
-            continue  # MOT marks a missing world position with -1
-        if top + height <= image_height - margin_px:
-            image.append([left + width / 2 - 0.5, top + height - 0.5])  # outer box edge -> pixel centre
-            ground.append([x, y])
-    if not image:
+    """Foot pixels (N, 2) and ground points (N, 2 m) from a ground truth with world positions
+    (:func:`vc.mot.read_mot_world`): the bottom centre of every box that ends at least ``margin_px`` above the
+    image's bottom border."""
+    boxes, ground = read_mot_world(path)
+    inside = boxes[:, 3] <= image_height - margin_px
+    if not inside.any():
         raise InputError(path, "", "no box with a ground position whose bottom is inside the image")
-    return np.array(image), np.array(ground)
+    feet = np.column_stack([(boxes[:, 0] + boxes[:, 2]) / 2 - 0.5, boxes[:, 3] - 0.5])  # outer edges -> centres
+    return feet[inside], ground[inside]
 
 
 def walkable_outline(camera: Camera, height_m: float, min_person_px: float) -> list[list[float]]:
@@ -139,8 +129,10 @@ def _background(source: Path, destination: Path, progress: bool) -> tuple[Path |
 
 def make_starter_scene(source: Path, folder: Path, points: Path | None = None, calibration: Path | None = None,
                        calibration_format: str | None = None, mot_world: Path | None = None,
-                       focal_px: float | None = None, progress: bool = True) -> StarterScene:
-    """Write ``folder/scene.yaml`` with its background and camera (see the module docstring)."""
+                       focal_px: float | None = None, progress: bool = True, name: str | None = None
+                       ) -> StarterScene:
+    """Write ``folder/scene.yaml`` with its background and camera (see the module docstring); the scene is
+    ``name``d after the folder unless given (a staging folder stands in for the one it becomes)."""
     given = [option for option in (points, calibration, mot_world) if option is not None]
     if len(given) != 1:
         raise InputError(None, "--points", "give exactly one of --points, --calibration or --mot-world")
@@ -179,7 +171,7 @@ def make_starter_scene(source: Path, folder: Path, points: Path | None = None, c
         reference = {"format": "opencv", "path": "camera.yaml"}
     priors, plan = Priors(), RegionPlanSpec()
     walkable = walkable_outline(camera, priors.height_m[0], plan.min_person_px)
-    document = {"name": scene_name(folder), "image": "background.png"}
+    document = {"name": name or scene_name(folder), "image": "background.png"}
     if video is not None:
         document["video"] = os.path.relpath(video.resolve(), folder.resolve())
     document.update({"calibration": reference,

@@ -90,3 +90,19 @@ def test_feet_of_a_world_ground_truth_are_ground_points(tmp_path):
     path.write_text("1,1,100,50,30\n")
     with pytest.raises(Exception, match="line 1"):
         ground_points_from_mot(path, image_height=240)
+
+
+def test_init_keeps_an_existing_scene_and_leaves_nothing_half_written(tmp_path, capsys):
+    frame = np.full((SIZE[1], SIZE[0], 3), 128, np.uint8)
+    write_image(tmp_path / "view.png", frame)
+    (tmp_path / "edited").mkdir()
+    (tmp_path / "edited" / "scene.yaml").write_text("name: mine\n")
+    assert vc_scene(["init", str(tmp_path / "view.png"), "-o", str(tmp_path / "edited"), "--points",
+                     str(tmp_path / "missing.csv")]) == 2
+    assert "exists and is not empty" in capsys.readouterr().err
+    assert (tmp_path / "edited" / "scene.yaml").read_text() == "name: mine\n"
+    # A calibration refused after the background was made leaves no folder behind.
+    assert vc_scene(["init", str(tmp_path / "view.png"), "-o", str(tmp_path / "new"), "--mot-world",
+                     str(tmp_path / "missing.txt")]) == 2
+    assert "ground-truth file not found" in capsys.readouterr().err
+    assert not (tmp_path / "new").exists() and not list(tmp_path.glob(".new.*"))

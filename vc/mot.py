@@ -10,22 +10,48 @@ import numpy as np
 from vc.errors import InputError
 
 
-def read_mot_boxes(path: Path) -> dict[int, np.ndarray]:
-    """Frame number -> (N, 4) boxes; a frame without a line has no people (if within the annotated range)."""
+def _rows(path: Path, columns: int, expected: str):
+    """(line number, numbers of the first ``columns`` fields) of every line that is not blank or a comment."""
     if not Path(path).is_file():
         raise InputError(path, "", "ground-truth file not found")
-    boxes: dict[int, list[list[float]]] = {}
     for number, line in enumerate(Path(path).read_text().splitlines(), start=1):
         if not line.strip() or line.lstrip().startswith("#"):
             continue
-        fields = line.replace(" ", "").split(",")
         try:
-            frame, left, top, width, height = int(float(fields[0])), *map(float, fields[2:6])
-        except (ValueError, IndexError):
-            raise InputError(path, f"line {number}", "expected frame,id,left,top,width,height,...") from None
-        if frame < 1 or width <= 0 or height <= 0:
-            raise InputError(path, f"line {number}", "frame must be >= 1 and the box's width and height positive")
-        boxes.setdefault(frame, []).append([left, top, left + width, top + height])
+            values = [float(field) for field in line.replace(" ", "").split(",")[:columns]]
+        except ValueError:
+            values = []
+        if len(values) < columns:
+            raise InputError(path, f"line {number}", f"expected {expected}")
+        yield number, values
+
+
+def _box(path: Path, number: int, values: list[float]) -> list[float]:
+    frame, _, left, top, width, height = values[:6]
+    if frame < 1 or width <= 0 or height <= 0:
+        raise InputError(path, f"line {number}", "frame must be >= 1 and the box's width and height positive")
+    return [left, top, left + width, top + height]
+
+
+def read_mot_boxes(path: Path) -> dict[int, np.ndarray]:
+    """Frame number -> (N, 4) boxes; a frame without a line has no people (if within the annotated range)."""
+    boxes: dict[int, list[list[float]]] = {}
+    for number, values in _rows(path, 6, "frame,id,left,top,width,height,..."):
+        boxes.setdefault(int(values[0]), []).append(_box(path, number, values))
     if not boxes:
         raise InputError(path, "", "holds no boxes")
     return {frame: np.array(rows) for frame, rows in boxes.items()}
+
+
+def read_mot_world(path: Path) -> tuple[np.ndarray, np.ndarray]:
+    """Boxes (N, 4) and their people's ground positions (N, 2, metres) from a ground truth that carries them in
+    columns 8-9 (``frame,id,left,top,width,height,conf,x,y,z``, as MOTChallenge 2015's 3-D sets); boxes without
+    a position (-1, -1) are left out."""
+    boxes, ground = [], []
+    for number, values in _rows(path, 9, "frame,id,left,top,width,height,conf,x,y,z with the ground position "
+                                         "in x, y"):
+        if values[7] == -1 and values[8] == -1 or not np.isfinite(values).all():
+            continue
+        boxes.append(_box(path, number, values))
+        ground.append(values[7:9])
+    return np.array(boxes).reshape(-1, 4), np.array(ground).reshape(-1, 2)

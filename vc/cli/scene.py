@@ -26,7 +26,7 @@ import numpy as np
 from vc import __version__
 from vc.cli.common import handles_input_errors
 from vc.errors import InputError
-from vc.io import read_image, write_image, write_json
+from vc.io import atomic_directory, read_image, write_image, write_json
 from vc.scenes.loader import Scene, load_scene
 from vc.scenes.regions import Region, plan_regions
 
@@ -209,32 +209,38 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
 
 def cmd_init(args: argparse.Namespace) -> int:
     from vc.scenes.overlay import draw_overlay
-    from vc.scenes.starter import make_starter_scene
+    from vc.scenes.starter import make_starter_scene, scene_name
 
-    started = time.perf_counter()
-    starter = make_starter_scene(args.input, args.output, args.points, args.calibration, args.format, args.mot_world,
-                                 args.focal, progress=sys.stderr.isatty())
-    scene = load_scene(starter.scene_path)
-    regions = plan_regions(scene)
-    overlay = args.output / "overlay.png"
-    write_image(overlay, draw_overlay(scene, read_image(scene.image_path), regions))
-    summary = {**starter.to_dict(), **scene_summary(scene, regions), "seconds": round(time.perf_counter() - started, 1)}
-    write_json(args.output / "init.json", summary)
-    camera = scene.camera
+    started, output = time.perf_counter(), args.output
+    if output.exists() and (not output.is_dir() or any(output.iterdir())):
+        raise InputError(output, "", "exists and is not empty: vc-scene init writes a new scene folder (a scene "
+                                     "edited there would be lost); choose another -o")
+    # Built in a staging folder beside OUT (same depth: relative paths hold) that becomes OUT only when complete.
+    with atomic_directory(output) as staging:
+        starter = make_starter_scene(args.input, staging, args.points, args.calibration, args.format,
+                                     args.mot_world, args.focal, progress=sys.stderr.isatty(),
+                                     name=scene_name(output))
+        scene = load_scene(starter.scene_path)
+        regions = plan_regions(scene)
+        write_image(staging / "overlay.png", draw_overlay(scene, read_image(scene.image_path), regions))
+        summary = {**scene_summary(scene, regions), **starter.to_dict(), "path": str(output / "scene.yaml"),
+                   "image": str(output / "background.png"), "seconds": round(time.perf_counter() - started, 1)}
+        write_json(staging / "init.json", summary)
+    scene_path, camera = output / "scene.yaml", scene.camera
     print(f"camera   from {starter.calibration_source}: focal {camera.fx:.0f} px, {camera.center[2]:.2f} m above the "
           f"ground")
     if starter.fit is not None:
         errors = starter.fit.errors_px
+        taken = f" (taken to {output / starter.ground_points_path.name})" if starter.ground_points_path else ""
         print(f"         reprojection median {np.median(errors):.2f} px, max {errors.max():.2f} px over {len(errors)} "
-              f"points" + (f" (taken to {starter.ground_points_path})" if starter.ground_points_path else ""))
+              f"points{taken}")
     print(f"regions  {len(regions)}: " + ", ".join(f"{r.name} people {r.person_px[0]:.0f}-{r.person_px[1]:.0f} px"
                                                    for r in regions))
-    print(f"wrote    {starter.scene_path}, {starter.background_path.name}, {overlay.name}, init.json "
-          f"in {time.perf_counter() - started:.0f} s")
+    print(f"wrote    {scene_path}, background.png, overlay.png, init.json in {time.perf_counter() - started:.0f} s")
     print("next     1. look at overlay.png: the figures must stand on the ground, as tall as people there are;\n"
           "         2. edit scene.yaml: trim the walkable polygon, add obstacles and walls (in pixels);\n"
-          f"         3. vc-scene light {starter.scene_path} -o light.png  (the light estimated from the background);\n"
-          f"         4. vc-compile {starter.scene_path} -o OUT")
+          f"         3. vc-scene light {scene_path} -o light.png  (the light estimated from the background);\n"
+          f"         4. vc-compile {scene_path} -o OUT")
     return 0
 
 
