@@ -219,8 +219,11 @@ def write_opencv_yaml(camera: Camera, path: Path) -> None:
     if not camera.distortion.is_identity:
         raise ValueError("only a camera without lens distortion is written as OpenCV YAML here")
     path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
     temporary = path.with_name(f".{path.name}.partial.yaml")
     storage = cv2.FileStorage(str(temporary), cv2.FILE_STORAGE_WRITE)
+    if not storage.isOpened():
+        raise OSError(f"cannot open {temporary} for writing")
     try:
         storage.write("image_width", camera.width)
         storage.write("image_height", camera.height)

@@ -188,3 +188,13 @@ def test_pets09_from_eight_ground_points_matches_its_tsai_calibration(pets_data,
     truth = read_mot_boxes(pets_data / "gt_dev_frames_0001-0400.txt")
     heights, ok = statures_m(camera, np.concatenate([truth[frame] for frame in sorted(truth)]))
     assert ok.mean() > 0.95 and 1.70 <= float(np.median(heights[ok])) <= 1.80
+
+
+def test_an_unwritable_camera_file_is_one_line_and_status_2(tmp_path, capsys):
+    camera = _camera()
+    points = _write_points(tmp_path / "points.csv", camera.project(np.c_[GROUND, np.zeros(len(GROUND))]).uv, GROUND)
+    (tmp_path / "file").write_text("")
+    assert vc_scene(["calibrate", str(points), "--size", *map(str, SIZE), "-o",
+                     str(tmp_path / "file" / "camera.yaml")]) == 2
+    error = capsys.readouterr().err.strip()
+    assert len(error.splitlines()) == 1 and "cannot write" in error
