@@ -10,7 +10,7 @@ LLVM_LIB := /usr/lib/x86_64-linux-gnu/libLLVM-19.so
 export DRJIT_LIBLLVM_PATH := $(LLVM_LIB)
 DEMO_OUT ?= out/demo
 
-.PHONY: install test test-hard test-fast demo lint clean
+.PHONY: install test test-hard test-fast demo runtime-wheel lint clean
 
 install: $(STAMP)
 
@@ -21,11 +21,11 @@ $(LLVM_LIB):
 		sudo apt-get update -qq && sudo DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libllvm19; \
 	fi
 
-$(STAMP): pyproject.toml $(LLVM_LIB)
+$(STAMP): pyproject.toml runtime/pyproject.toml $(LLVM_LIB)
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	# torch first: the pinned CPU wheel; any looser spec pulls GBs of CUDA packages.
 	$(PIP) install -q torch==2.13.0
-	$(PIP) install -q -e '.[dev,runtime]'
+	$(PIP) install -q -e '.[dev]'
 	touch $(STAMP)
 
 test: install
@@ -49,8 +49,12 @@ demo: install
 	@echo "demo: the compiled detector on a demo frame: $(DEMO_OUT)/overlay.png (white: truth);" \
 		"bundle $(DEMO_OUT)/bundle, stage record $(DEMO_OUT)/compile.json, region plan $(DEMO_OUT)/regions.png"
 
+# The appliance runtime (numpy + onnxruntime only; extras video and signatures) as a wheel in dist/: runtime/.
+runtime-wheel: install
+	$(PY) runtime/build.py -o dist
+
 lint: install
 	$(VENV)/bin/ruff check .
 
 clean:
-	rm -rf $(VENV) out .pytest_cache .hypothesis
+	rm -rf $(VENV) out dist .pytest_cache .hypothesis

@@ -67,7 +67,9 @@ from matplotlib.transforms import Bbox  # noqa: E402
 
 from vc.deploy.heatmaps import ANATOMICAL_CHANNELS, HEATMAP_CHANNELS  # noqa: E402
 from vc.io import atomic_path, write_json  # noqa: E402
+from vc.stages.config import PRESETS  # noqa: E402
 
+STANDARD = PRESETS["standard"]  # every point is this compile with one knob changed (its export aside: fp32)
 HEARTBEAT_SECONDS = 30.0  # how much compile time a killed stage can lose from its record
 TIMING_FRAMES = 30  # frames each bundle is timed on, in turn with the standard compile's bundle
 
@@ -76,16 +78,16 @@ TIMING_FRAMES = 30  # frames each bundle is timed on, in turn with the standard 
 class Point:
     """One compile: the settings every stage depends on."""
 
-    spp: int = 16
+    spp: int = STANDARD.render.spp
     effects: bool = True
-    samples: int = 2000
-    arch: str = "fast"
+    samples: int = STANDARD.render.samples
+    arch: str = STANDARD.train.arch
     width: int | None = None
     sb_units: int | None = None
     target_person_px: float | None = None  # None: the scene's own plan
     single_region: bool = False
     precision: str = "fp32"
-    steps: int = 1800
+    steps: int = STANDARD.train.steps
     heatmap_channels: int = HEATMAP_CHANNELS  # the trainer's output layout (19: anatomical pairs, before handedness)
     train_seed: int = 0
     photometry: str = "matched"  # see PHOTOMETRY; points stored before the knob were "off"
@@ -139,15 +141,28 @@ KNOBS: dict[str, dict[str, Point]] = {
 }
 
 
+@dataclass(frozen=True)
+class SweepSettings:
+    """Where the sweep works and what it measures on (the command line's arguments, typed)."""
+
+    scene: Path
+    work: Path
+    dev_video: Path | None = None  # real frames; without them, AP50 of the self-test's composed frames
+    dev_gt: Path | None = None
+    dev_frames: str = "1:400:5"
+    quiet: bool = False  # no progress bars from the stages
+    paired_runtime: bool = True  # time each bundle in turn with the standard compile's
+
+
 class Sweep:
-    def __init__(self, args: argparse.Namespace) -> None:
-        self.args, self.work = args, args.work
-        self.scene_yaml = args.scene.resolve()
-        self.quiet = ["--quiet"] if args.quiet else []  # the stages' own progress bars, passed on or not
-        self.paired = not args.no_runtime
+    def __init__(self, settings: SweepSettings) -> None:
+        self.settings, self.work = settings, settings.work
+        self.scene_yaml = settings.scene.resolve()
+        self.show_progress = not settings.quiet
+        self.paired = settings.paired_runtime
         self._timing_frames: list[np.ndarray] | None = None
 
-    def _timed(self, folder: Path, stage: Callable[[], int]) -> float:
+    def _timed(self, folder: Path, stage: Callable[[], object]) -> float:
         """Run ``stage`` for ``folder`` until it succeeds and remember how long it took in all (shared stages keep
         their time). A stage killed part-way (a session's end) resumes its own work when run again; its clock does
         too, from ``<folder>.partial-seconds.json``, which a heartbeat keeps within :data:`HEARTBEAT_SECONDS`."""
@@ -170,13 +185,11 @@ class Sweep:
         beating = threading.Thread(target=heartbeat, daemon=True)
         beating.start()
         try:
-            code = stage()
+            stage()
         finally:
             stopped.set()
             beating.join()
             write_json(partial, {"seconds": elapsed()})
-        if code != 0:
-            raise SystemExit(f"stage for {folder} failed with exit status {code}")
         seconds = elapsed()
         write_json(record, {"seconds": seconds})
         partial.unlink()
@@ -230,9 +243,10 @@ class Sweep:
                             if decision.on and decision.name != left_out]}
 
     def compile(self, point: Point) -> tuple[dict[str, Path], dict[str, float]]:
-        from vc.cli import export as export_cli
-        from vc.cli import render as render_cli
-        from vc.cli import train as train_cli
+        from vc.stages.config import ExportSettings, RenderSettings, TrainSettings
+        from vc.stages.export import export
+        from vc.stages.render import render
+        from vc.stages.train import train
 
         scene = self.scene(point)
         renders = self.work / "renders" / point.render_key()
@@ -240,15 +254,15 @@ class Sweep:
         bundle = self.work / "bundles" / point.bundle_key()
         for folder in (renders, run, bundle):
             folder.parent.mkdir(parents=True, exist_ok=True)
-        seconds = {"render": self._timed(renders, lambda: render_cli.main(
-            [str(scene), "-o", str(renders), "--samples", str(point.samples), "--spp", str(point.spp), *self.quiet]))}
-        train_args = [str(renders), "-o", str(run), "--all", "--arch", point.arch, "--steps", str(point.steps)]
-        train_args += ["--width", str(point.width)] if point.width else []
-        train_args += ["--sb-units", str(point.sb_units)] if point.sb_units else []
-        train_args += ["--seed", str(point.train_seed), *self.quiet]
-        seconds["train"] = self._timed(run, lambda: train_cli.main(train_args))
-        seconds["export"] = self._timed(bundle, lambda: export_cli.main(
-            [str(run), "-o", str(bundle), "--precision", point.precision, *self.quiet]))
+        render_settings = RenderSettings(samples=point.samples, spp=point.spp)
+        train_settings = TrainSettings(arch=point.arch, width=point.width, sb_units=point.sb_units, steps=point.steps,
+                                       seed=point.train_seed)
+        seconds = {"render": self._timed(renders, lambda: render(scene, renders, render_settings,
+                                                                 show_progress=self.show_progress)),
+                   "train": self._timed(run, lambda: train(renders, run, train_settings,
+                                                           show_progress=self.show_progress))}
+        seconds["export"] = self._timed(bundle, lambda: export(run, bundle, ExportSettings(precision=point.precision),
+                                                               show_progress=self.show_progress))
         return {"scene": scene, "renders": renders, "bundle": bundle}, seconds
 
     def as_compiled(self, point: Point) -> Point:
@@ -286,7 +300,7 @@ class Sweep:
                   "compile_minutes": sum(seconds.values()) / 60,
                   "synthetic_ap50": float(np.mean([r["ap50"] for r in held_out])),
                   "synthetic_pckh": float(np.mean([r["pckh"] or 0.0 for r in held_out]))}
-        result.update(self.real(paths["bundle"], knob, value) if self.args.dev_video else self.composed(**paths))
+        result.update(self.real(paths["bundle"], knob, value) if self.settings.dev_video else self.composed(**paths))
         if self.paired:
             result.update(self.paired_runtime(paths["bundle"]))
         write_json(path, result)
@@ -318,17 +332,17 @@ class Sweep:
         """The frames every bundle is timed on: the first :data:`TIMING_FRAMES` development frames, or without
         them frames composed of the standard point's held-out renders on the scene's background."""
         if self._timing_frames is None:
-            if self.args.dev_video:
-                from vc.frames import FrameRange, FrameSource
+            if self.settings.dev_video:
+                from vc.deploy.frames import FrameRange, FrameSource
 
-                source = FrameSource(self.args.dev_video, FrameRange.parse(self.args.dev_frames))
+                source = FrameSource(self.settings.dev_video, FrameRange.parse(self.settings.dev_frames))
                 self._timing_frames = [frame.image for frame in itertools.islice(source, TIMING_FRAMES)]
             else:
+                from vc.evaluation.selftest import composite_frame
                 from vc.io import read_image
                 from vc.model.data import open_region
                 from vc.render.dataset import read_manifest
                 from vc.scenes.loader import load_scene
-                from vc.selftest import composite_frame
 
                 renders = self.work / "renders" / BASE.render_key()
                 regions = [open_region(renders, name) for name in read_manifest(renders)["regions"]]
@@ -338,23 +352,22 @@ class Sweep:
         return self._timing_frames
 
     def real(self, bundle: Path, knob: str, value: str) -> dict:
-        from vc.cli import eval as eval_cli
+        from vc.deploy.frames import FrameRange
+        from vc.evaluation.evaluate import OURS, EvaluationRequest, evaluate_bundle
 
-        output = self.work / "evals" / knob / value.replace(" ", "_")
-        code = eval_cli.main([str(bundle), "--video", str(self.args.dev_video), "--gt", str(self.args.dev_gt),
-                              "--frames", self.args.dev_frames, "-o", str(output), "--no-hog", *self.quiet])
-        if code != 0:
-            raise SystemExit(f"vc-eval failed with exit status {code}")
-        ours = json.loads((output / "metrics.json").read_text())["detectors"]["visual compiler"]
+        request = EvaluationRequest(bundle=bundle, video=self.settings.dev_video, ground_truth=self.settings.dev_gt,
+                                    output=self.work / "evals" / knob / value.replace(" ", "_"),
+                                    frames=FrameRange.parse(self.settings.dev_frames), hog=False)
+        ours = evaluate_bundle(request, show_progress=self.show_progress).metrics["detectors"][OURS]
         return {"real_ap50": ours["ap50"], "eval_runtime_ms": ours["ms_per_frame"]["median"]}
 
     def composed(self, scene: Path, renders: Path, bundle: Path) -> dict:
         from vc.deploy.runtime import Runtime
+        from vc.evaluation.selftest import self_test
         from vc.io import read_image
         from vc.model.data import open_region
         from vc.render.dataset import read_manifest
         from vc.scenes.loader import load_scene
-        from vc.selftest import self_test
 
         regions = [open_region(renders, name) for name in read_manifest(renders)["regions"]]
         result = self_test(Runtime(bundle), read_image(load_scene(scene).image_path), regions, 20)
@@ -628,7 +641,8 @@ def run(parser: argparse.ArgumentParser, argv: list[str] | None = None) -> argpa
         unknown = [value for value in args.value if value not in KNOBS[knob]]
         if unknown:
             parser.error(f"--value {', '.join(unknown)}: {knob} has the values {', '.join(KNOBS[knob])}")
-    sweep = Sweep(args)
+    sweep = Sweep(SweepSettings(scene=args.scene, work=args.work, dev_video=args.dev_video, dev_gt=args.dev_gt,
+                                dev_frames=args.dev_frames, quiet=args.quiet, paired_runtime=not args.no_runtime))
     previous = args.out / "accuracy_vs_time.json"
     for knob in args.knob:
         fresh = [sweep.measure(knob, value, point) for value, point in KNOBS[knob].items()

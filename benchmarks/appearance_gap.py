@@ -27,9 +27,9 @@ import numpy as np  # noqa: E402
 
 from vc.calibration.materials import luminance  # noqa: E402
 from vc.calibration.response import Response  # noqa: E402
-from vc.frames import FrameRange, FrameSource  # noqa: E402
+from vc.deploy.frames import FrameRange, FrameSource  # noqa: E402
+from vc.evaluation.mot import read_mot_boxes  # noqa: E402
 from vc.io import read_image, write_json  # noqa: E402
-from vc.mot import read_mot_boxes  # noqa: E402
 from vc.render.plan import region_background  # noqa: E402
 from vc.scenes.loader import load_scene  # noqa: E402
 from vc.scenes.regions import plan_regions  # noqa: E402

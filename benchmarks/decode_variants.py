@@ -1,6 +1,6 @@
 """What the decoder's settings buy on real frames, without retraining: one bundle's heat maps on the frames are
 computed once, then decoded under each variant of its regions' ``DecodeConfig``; real AP50 and the miss analysis
-(:mod:`vc.deploy.misses`) of each variant.
+(:mod:`vc.evaluation.misses`) of each variant.
 
     python benchmarks/decode_variants.py BUNDLE --video V --gt GT.txt [--frames 1:400:5]
         [--variant NAME FIELD=VALUE [FIELD=VALUE ...]]... --out DIR
@@ -20,12 +20,12 @@ import numpy as np
 from tqdm import tqdm
 
 from vc.deploy.decode import DecodeConfig
-from vc.deploy.metrics import ImageResult, evaluate
-from vc.deploy.misses import analyse_misses, region_lookup
+from vc.deploy.frames import FrameRange, FrameSource
 from vc.deploy.runtime import Runtime
-from vc.frames import FrameRange, FrameSource
+from vc.evaluation.metrics import ImageResult, evaluate
+from vc.evaluation.misses import analyse_misses, region_lookup
+from vc.evaluation.mot import read_mot_boxes
 from vc.io import write_json
-from vc.mot import read_mot_boxes
 
 #: Variants measured by default: name -> DecodeConfig fields changed from the bundle's.
 VARIANTS: dict[str, dict] = {

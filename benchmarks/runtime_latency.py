@@ -6,7 +6,7 @@
 For each precision the finished vc-train RUN is exported to a temporary bundle (``vc.model.export``; int8
 calibrated on the run's training renders) and measured in a fresh process, so that its peak resident memory is its
 own: milliseconds per full frame (every region: crop, onnxruntime, decode, ownership, mapping; median over
-``--frames`` frames composed of held-out renders on the scene's background, see :mod:`vc.selftest`, after one
+``--frames`` frames composed of held-out renders on the scene's background, see :mod:`vc.evaluation.selftest`, after one
 warm-up frame), sequentially with ``--threads`` intra-op threads and with the regions in parallel, and per region
 (network and decoding alone). Writes ``runtime_latency.json``, ``runtime_latency.md`` and ``runtime_latency.png``
 to ``--out``.
@@ -67,12 +67,12 @@ def measure(bundle: Path, frames_path: Path, threads: int) -> dict:
 
 
 def _frames(run: Path, scene: Path, count: int) -> np.ndarray:
+    from vc.evaluation.selftest import composite_frame
     from vc.io import read_image
     from vc.model.data import open_region
     from vc.model.train import load_checkpoint
     from vc.render.dataset import read_manifest
     from vc.scenes.loader import load_scene
-    from vc.selftest import composite_frame
 
     checkpoint = load_checkpoint(sorted((run / "checkpoints").glob("*.pt"))[0])
     dataset = checkpoint.dataset

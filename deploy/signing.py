@@ -23,9 +23,10 @@ def _crypto():
         from cryptography.exceptions import InvalidSignature
         from cryptography.hazmat.primitives import serialization
         from cryptography.hazmat.primitives.asymmetric import ed25519
-    except ImportError:  # the runtime extra installs it; a bare numpy + onnxruntime install cannot check signatures
-        raise InputError(None, "public_key", "checking or making signatures needs the 'cryptography' package "
-                                             "(pip install cryptography)") from None
+    except ImportError:  # the runtime's 'signatures' extra installs it; numpy + onnxruntime alone cannot check them
+        raise InputError(None, "public_key", "checking or making signatures needs the 'cryptography' package: "
+                                             "install the runtime's 'signatures' extra "
+                                             "(pip install 'visual-compiler-runtime[signatures]')") from None
     return serialization, ed25519, InvalidSignature
 
 

@@ -1,5 +1,5 @@
 """Held-out synthetic accuracy of a trained region network, through the deployment decoder and the one metrics
-implementation (:mod:`vc.deploy.metrics`), so that what training reports is what the appliance will do.
+implementation (:mod:`vc.evaluation.metrics`), so that what training reports is what the appliance will do.
 
 Ground truth is each person's full (amodal) box, clipped to the input: the decoder's box is the person's expected
 height at that position, not the visible part. People mostly hidden or cut off are ``ignore``: a detector is not
@@ -17,7 +17,7 @@ import torch
 from tqdm import tqdm
 
 from vc.deploy.decode import DecodeConfig, DecodedPerson, decode
-from vc.deploy.metrics import Evaluation, ImageResult, evaluate
+from vc.evaluation.metrics import Evaluation, ImageResult, evaluate
 from vc.model.data import Sample, read_sample
 from vc.model.network import ScenePoseNet
 

@@ -26,6 +26,7 @@ from tqdm import tqdm
 from vc.calibration.camera import camera_from_dict
 from vc.deploy.decode import DecodeConfig
 from vc.errors import InputError, StageError
+from vc.evaluation.plots import plot_precision_recall, plot_training_curve
 from vc.io import atomic_path
 from vc.model.codec import CodecConfig, expected_height_map
 from vc.model.config import DEFAULT_ARCH, NetworkConfig, network_config
@@ -33,7 +34,6 @@ from vc.model.data import Augmentation, CropPolicy, RegionData, TrainingStream
 from vc.model.evaluate import RegionEvaluation, evaluate_network
 from vc.model.loss import LossWeights, scene_pose_loss
 from vc.model.network import ScenePoseNet
-from vc.plots import plot_precision_recall, plot_training_curve
 
 CHECKPOINT_FORMAT = 1
 CHECKPOINT_KIND = "vc-train checkpoint"

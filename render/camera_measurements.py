@@ -17,8 +17,8 @@ from vc.calibration.compression import JpegEstimate, blockiness, equivalent_qual
 from vc.calibration.noise import NoiseEstimate, NoiseModel, estimate_noise_image, estimate_noise_video
 from vc.calibration.response import Response
 from vc.calibration.sharpness import BlurEstimate, estimate_blur_sigma
+from vc.deploy.frames import FrameRange, FrameSource
 from vc.errors import InputError
-from vc.frames import FrameRange, FrameSource
 from vc.io import read_image
 from vc.scenes.loader import Scene
 

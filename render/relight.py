@@ -270,7 +270,7 @@ def sun_angle_error_deg(a: Illumination, b: Illumination) -> float:
 
 def write_comparison(scene: Scene, regions: list[Region], solution: LightingSolution, destination: Path) -> None:
     """``vc-scene light``'s figure: background, re-render, error map with the regions, per-region errors."""
-    from vc.plots import plot_lighting_comparison
+    from vc.evaluation.plots import plot_lighting_comparison
 
     fit = solution.fit
     response = Response(scene.response)

@@ -13,8 +13,8 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
+from vc.deploy.frames import FrameRange, FrameSource
 from vc.errors import InputError
-from vc.frames import FrameRange, FrameSource
 
 
 @dataclass(frozen=True)

@@ -37,10 +37,10 @@ from vc.calibration.ground_points import (
     write_opencv_yaml,
 )
 from vc.calibration.readers import read_calibration
+from vc.deploy.frames import IMAGE_SUFFIXES
 from vc.errors import InputError
-from vc.frames import IMAGE_SUFFIXES
+from vc.evaluation.mot import read_mot_world
 from vc.io import read_image, write_image
-from vc.mot import read_mot_world
 from vc.scenes.background import median_background
 from vc.scenes.schema import Priors, RegionPlanSpec
 
@@ -83,8 +83,8 @@ def scene_name(folder: Path) -> str:
 
 def ground_points_from_mot(path: Path, image_height: int, margin_px: float = 2.0) -> tuple[np.ndarray, np.ndarray]:
     """Foot pixels (N, 2) and ground points (N, 2 m) from a ground truth with world positions
-    (:func:`vc.mot.read_mot_world`): the bottom centre of every box that ends at least ``margin_px`` above the
-    image's bottom border."""
+    (:func:`vc.evaluation.mot.read_mot_world`): the bottom centre of every box that ends at least ``margin_px``
+    above the image's bottom border."""
     boxes, ground = read_mot_world(path)
     inside = boxes[:, 3] <= image_height - margin_px
     if not inside.any():

@@ -24,13 +24,18 @@ TOWN_CENTRE = {"fx": 2696.35888671875, "fy": 2696.35888671875, "cx": 959.5, "cy"
                "k1": -0.6015, "k2": 4.7020, "p1": -0.000475, "p2": -0.007823, "size": (1920, 1080)}
 
 
-def load_benchmark(name: str) -> ModuleType:
-    """The script ``benchmarks/<name>.py`` as a module (benchmarks are scripts, not a package)."""
-    spec = importlib.util.spec_from_file_location(name, REPO / "benchmarks" / f"{name}.py")
+def load_script(path: Path, name: str) -> ModuleType:
+    """A script of this repository (benchmarks/, runtime/build.py) as a module: they are scripts, not a package."""
+    spec = importlib.util.spec_from_file_location(name, path)
     module = importlib.util.module_from_spec(spec)
     sys.modules[name] = module  # dataclasses look their module up while it executes
     spec.loader.exec_module(module)
     return module
+
+
+def load_benchmark(name: str) -> ModuleType:
+    """The script ``benchmarks/<name>.py`` as a module."""
+    return load_script(REPO / "benchmarks" / f"{name}.py", name)
 
 
 @pytest.fixture(scope="session")

@@ -1,12 +1,12 @@
-"""Pose agreement with a reference pose model (vc.deploy.agreement): the proxy for pose on real people."""
+"""Pose agreement with a reference pose model (vc.evaluation.agreement): the proxy for pose on real people."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from vc.deploy.agreement import pose_agreement
-from vc.deploy.metrics import ImageResult
+from vc.evaluation.agreement import pose_agreement
+from vc.evaluation.metrics import ImageResult
 
 TRUTH = np.array([[0, 0, 20, 80], [100, 0, 120, 80]], float)  # 80 px tall: a head size is 10 px
 

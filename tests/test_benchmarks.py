@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import argparse
 import itertools
 import json
 import sys
@@ -24,9 +23,9 @@ KNOBS, BASE = sweep_module.KNOBS, sweep_module.BASE
 
 
 def _sweep(work, **settings):
-    """A sweep of the demo scene as ``main`` makes it, with the paired timing unless ``no_runtime`` says otherwise."""
-    arguments = {"work": work, "scene": REPO / "scenes/demo/scene.yaml", "quiet": True, "no_runtime": False}
-    return sweep_module.Sweep(argparse.Namespace(**arguments | settings))
+    """A sweep of the demo scene as ``main`` makes it, with the paired timing unless ``paired_runtime`` is False."""
+    arguments = {"work": work, "scene": REPO / "scenes/demo/scene.yaml", "quiet": True, "paired_runtime": True}
+    return sweep_module.Sweep(sweep_module.SweepSettings(**arguments | settings))
 
 
 def test_points_share_what_they_do_not_change():
@@ -209,7 +208,7 @@ def test_a_point_measured_before_the_paired_timing_gets_it_from_its_kept_bundle(
 
 def test_without_the_runtime_timing_the_standard_compile_is_neither_timed_nor_compiled(tmp_path, monkeypatch):
     """``--no-runtime`` is for a point that fits a session only without the standard compile beside it."""
-    sweep = _sweep(tmp_path, no_runtime=True)
+    sweep = _sweep(tmp_path, paired_runtime=False)
     monkeypatch.setattr(sweep, "compile", lambda point: pytest.fail("compiled"))
     point = KNOBS["samples"]["20000"]
     measured = {"knob": "samples", "value": "20000", "synthetic_ap50": 0.97, "eval_runtime_ms": 21.0}
@@ -331,7 +330,7 @@ def test_the_scene_copy_finds_the_video_of_the_scene(tmp_path):
     document["video"] = "frames"
     (folder / "frames").mkdir()
     (folder / "scene.yaml").write_text(yaml.safe_dump(document))
-    sweep = sweep_module.Sweep(argparse.Namespace(work=tmp_path / "work", scene=folder / "scene.yaml", quiet=True,
-                                                  no_runtime=True))
+    sweep = sweep_module.Sweep(sweep_module.SweepSettings(work=tmp_path / "work", scene=folder / "scene.yaml",
+                                                          quiet=True, paired_runtime=False))
     copied = yaml.safe_load(sweep.scene(BASE).read_text())
     assert copied["video"] == str((folder / "frames").resolve())

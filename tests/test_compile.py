@@ -1,34 +1,43 @@
-"""vc-compile end to end on the demo scene at a toy budget: every stage runs once, a second run skips them all,
-and the self-test's composed frames carry their people's boxes."""
+"""vc-compile end to end on the demo scene at a toy budget: every stage runs once, a second run skips them all, the
+config it wrote compiles the same bytes again, and the self-test's composed frames carry their people's boxes."""
 
 from __future__ import annotations
 
+import hashlib
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 
 from vc.cli import compile as compile_cli
+from vc.evaluation.selftest import composite_frame
 from vc.model.data import open_region
-from vc.selftest import composite_frame
+from vc.stages.config import CONFIG_FILE, PRESETS, CompileConfig, read_config
 
 pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("anny")]
-TOY = compile_cli.Budget(samples=20, spp=1, steps=2, eval_samples=10, selftest_frames=2)
+TOY = {"render": {"samples": 20, "spp": 1, "shard_size": 10}, "train": {"steps": 2},
+       "export": {"precision": "auto", "eval_samples": 10}, "self_test": {"frames": 2}}
 
 
 @pytest.fixture(scope="module")
-def compiled(tmp_path_factory, monkeypatch_module) -> tuple:
-    monkeypatch_module.setitem(compile_cli.BUDGETS, "quick", TOY)
-    monkeypatch_module.setattr(compile_cli, "SHARD_SIZE", 10)
+def toy_config(tmp_path_factory) -> Path:
+    path = tmp_path_factory.mktemp("config") / "toy.yaml"
+    path.write_text(yaml.safe_dump(TOY))
+    return path
+
+
+@pytest.fixture(scope="module")
+def compiled(tmp_path_factory, toy_config) -> tuple:
     output = tmp_path_factory.mktemp("compile") / "demo"
-    code = compile_cli.main(["scenes/demo/scene.yaml", "-o", str(output), "--budget", "quick", "--quiet"])
+    code = compile_cli.main(["scenes/demo/scene.yaml", "-o", str(output), "--config", str(toy_config), "--quiet"])
     return code, output
 
 
-@pytest.fixture(scope="module")
-def monkeypatch_module():
-    with pytest.MonkeyPatch.context() as patch:
-        yield patch
+def _digests(folder: Path, pattern: str) -> dict[str, str]:
+    return {str(path.relative_to(folder)): hashlib.sha256(path.read_bytes()).hexdigest()
+            for path in sorted(folder.rglob(pattern)) if path.is_file()}
 
 
 def test_every_stage_runs_and_is_recorded(compiled):
@@ -45,9 +54,46 @@ def test_every_stage_runs_and_is_recorded(compiled):
 def test_a_second_run_skips_finished_stages(compiled, capsys):
     _, output = compiled
     before = (output / "bundle" / "manifest.json").stat().st_mtime_ns
-    assert compile_cli.main(["scenes/demo/scene.yaml", "-o", str(output), "--budget", "quick", "--quiet"]) == 0
+    assert compile_cli.main(["scenes/demo/scene.yaml", "-o", str(output), "--config", str(output / CONFIG_FILE),
+                             "--quiet"]) == 0
     assert capsys.readouterr().out.count("done before") == 5
     assert (output / "bundle" / "manifest.json").stat().st_mtime_ns == before
+
+
+def test_the_written_config_compiles_the_same_bytes(compiled, tmp_path):
+    """The config a compile writes beside its outputs is the whole of what it depends on besides the scene: read back
+    with --config into a new folder, it renders byte-identical shards and exports the same models."""
+    _, output = compiled
+    assert read_config(output / CONFIG_FILE) == CompileConfig.model_validate(TOY)
+    again = tmp_path / "again"
+    assert compile_cli.main(["scenes/demo/scene.yaml", "-o", str(again), "--config", str(output / CONFIG_FILE),
+                             "--quiet"]) == 0
+    renders = _digests(output / "renders", "shard-*/*")
+    assert renders and renders == _digests(again / "renders", "shard-*/*")
+    models = {region["name"]: region["model_sha256"] for region in
+              json.loads((output / "bundle" / "manifest.json").read_text())["regions"]}
+    assert models == {region["name"]: region["model_sha256"] for region in
+                      json.loads((again / "bundle" / "manifest.json").read_text())["regions"]}
+
+
+def test_a_budget_is_a_preset_and_set_changes_one_field():
+    parser = compile_cli._parser()
+    quick = compile_cli.config_from(parser.parse_args(["s.yaml", "-o", "o", "--budget", "quick"]))
+    assert quick == PRESETS["quick"]
+    changed = compile_cli.config_from(parser.parse_args(["s.yaml", "-o", "o", "--budget", "quick", "--set",
+                                                         "train.steps=7", "--seed", "3"]))
+    assert (changed.train.steps, changed.render.seed, changed.train.seed) == (7, 3, 3)
+    assert changed.render.samples == quick.render.samples and changed.export == quick.export
+    assert compile_cli.config_from(parser.parse_args(["s.yaml", "-o", "o"])) == PRESETS["standard"]
+
+
+def test_a_bad_config_file_is_one_line_naming_the_field(tmp_path, capsys):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(yaml.safe_dump({**TOY, "train": {"steps": -1}}))
+    assert compile_cli.main(["scenes/demo/scene.yaml", "-o", str(tmp_path / "out"), "--config", str(bad)]) == 2
+    error = capsys.readouterr().err.strip()
+    assert error.count("\n") == 0 and str(bad) in error and "train.steps" in error
+    assert not (tmp_path / "out").exists()
 
 
 def test_composed_frames_put_people_where_their_boxes_say(compiled):

@@ -11,12 +11,12 @@ import pytest
 from dataset_factory import INPUT_SIZE, region_camera, sample
 from onnx import TensorProto, helper
 
-from vc.baselines import HogPeopleDetector, YoloPoseOnnx, non_max_suppression
 from vc.cli.eval import main as vc_eval
-from vc.deploy.metrics import box_iou
+from vc.deploy.frames import FrameRange, FrameSource
 from vc.errors import InputError
-from vc.frames import FrameRange, FrameSource
-from vc.mot import read_mot_boxes
+from vc.evaluation.baselines import HogPeopleDetector, YoloPoseOnnx, non_max_suppression
+from vc.evaluation.metrics import box_iou
+from vc.evaluation.mot import read_mot_boxes
 
 TRUE_BOX = np.array([40.0, 10.0, 60.0, 50.0])  # x0, y0, x1, y1 in a 128x64 frame
 YOLO_SIZE = 64

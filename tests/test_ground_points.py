@@ -20,7 +20,7 @@ from vc.calibration.ground_points import (
 from vc.calibration.readers import read_calibration, read_opencv
 from vc.cli.scene import main as vc_scene
 from vc.errors import InputError
-from vc.mot import read_mot_boxes
+from vc.evaluation.mot import read_mot_boxes
 from vc.scenes.loader import load_scene
 
 SCENES = Path(__file__).resolve().parent.parent / "scenes"

@@ -1,4 +1,4 @@
-"""The miss analysis (vc.deploy.misses): every person and false positive at the operating point, sorted by kind."""
+"""The miss analysis (vc.evaluation.misses): every person and false positive at the operating point, sorted by kind."""
 
 from __future__ import annotations
 
@@ -7,11 +7,11 @@ import json
 import numpy as np
 import pytest
 
-from vc.deploy.metrics import ImageResult
-from vc.deploy.misses import analyse_misses, region_lookup
 from vc.deploy.runtime import Person
-from vc.draw import OUTCOME_COLOURS, draw_errors
-from vc.plots import plot_miss_analysis
+from vc.evaluation.draw import OUTCOME_COLOURS, draw_errors
+from vc.evaluation.metrics import ImageResult
+from vc.evaluation.misses import analyse_misses, region_lookup
+from vc.evaluation.plots import plot_miss_analysis
 
 A = [10, 100, 30, 160]  # found, and detected twice
 B = [200, 100, 220, 160]  # seen by a box 1.5x too wide, half its width to the right

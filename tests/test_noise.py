@@ -10,7 +10,7 @@ import pytest
 
 from vc.calibration.noise import NoiseModel, estimate_noise_image, estimate_noise_video
 from vc.calibration.response import Response
-from vc.frames import FrameRange, FrameSource
+from vc.deploy.frames import FrameRange, FrameSource
 from vc.io import read_image
 
 REPO = Path(__file__).resolve().parents[1]

@@ -13,8 +13,8 @@ import pytest
 from dataset_factory import INPUT_SIZE, region_camera, sample
 
 from vc.cli.run import main as vc_run
+from vc.deploy.frames import FrameRange, FrameSource
 from vc.errors import InputError
-from vc.frames import FrameRange, FrameSource
 from vc.io import write_image
 
 

@@ -21,10 +21,9 @@ from pathlib import Path
 
 from vc import __version__
 from vc.cli.common import handles_input_errors, non_negative_int, positive_int
-from vc.deploy.bundle import load_bundle
-from vc.deploy.signing import sign_manifest
-from vc.model.export import bundle_files, write_bundle
 from vc.model.precision import PRECISIONS
+from vc.stages.config import ExportSettings
+from vc.stages.export import ExportResult, export
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -32,12 +31,16 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     parser.add_argument("run", type=Path, help="a vc-train run folder")
     parser.add_argument("-o", "--output", type=Path, required=True, help="bundle folder (or .zip with --zip)")
-    parser.add_argument("--precision", choices=[*PRECISIONS, "auto"], default="fp32",
-                        help="model precision (default fp32; auto: int8 where held-out accuracy holds)")
-    parser.add_argument("--eval-samples", type=non_negative_int, default=200,
-                        help="held-out renders per region to measure each precision on (default 200; 0: skip)")
-    parser.add_argument("--calibration-samples", type=positive_int, default=64,
-                        help="training renders per region that calibrate int8 (default 64)")
+    defaults = ExportSettings()
+    parser.add_argument("--precision", choices=[*PRECISIONS, "auto"], default=defaults.precision,
+                        help=f"model precision (default {defaults.precision}; auto: int8 where held-out accuracy "
+                             "holds)")
+    parser.add_argument("--eval-samples", type=non_negative_int, default=defaults.eval_samples,
+                        help=f"held-out renders per region to measure each precision on (default "
+                             f"{defaults.eval_samples}; 0: skip)")
+    parser.add_argument("--calibration-samples", type=positive_int, default=defaults.calibration_samples,
+                        help=f"training renders per region that calibrate int8 (default "
+                             f"{defaults.calibration_samples})")
     parser.add_argument("--zip", action="store_true", help="write one zip file instead of a folder")
     parser.add_argument("--sign", type=Path, metavar="KEY.pem",
                         help="sign the manifest with this Ed25519 private key (openssl genpkey -algorithm ed25519)")
@@ -61,18 +64,10 @@ def _accuracy_table(manifest: dict) -> list[str]:
     return lines
 
 
-@handles_input_errors
-def main(argv: list[str] | None = None) -> int:
-    args = _parser().parse_args(argv)
-    if args.sign is not None:
-        sign_manifest(b"", args.sign)  # a bad key is refused before the export's work, not after
-    manifest, files = bundle_files(args.run, args.precision, args.eval_samples, args.calibration_samples,
-                                   show_progress=not args.quiet)
-    write_bundle(manifest, files, args.output, args.zip, args.sign)
-    bundle = load_bundle(args.output)
-    size = sum(len(data) for data in files.values())
-    print(f"vc-export: {len(bundle.regions)} region(s) of scene {manifest['scene']!r} -> {args.output} "
-          f"({size / 1e6:.2f} MB, {manifest['precision']})")
+def report_result(result: ExportResult, output: Path) -> None:
+    manifest = result.manifest
+    print(f"vc-export: {len(result.bundle.regions)} region(s) of scene {manifest['scene']!r} -> {output} "
+          f"({result.size_bytes / 1e6:.2f} MB, {manifest['precision']})")
     for region in manifest["regions"]:
         x0, y0, width, height = region["crop_window"]
         print(f"  {region['name']}: crop {width}x{height} at ({x0}, {y0}) -> input "
@@ -80,4 +75,13 @@ def main(argv: list[str] | None = None) -> int:
               f"{region['precision']}")
     for line in _accuracy_table(manifest):
         print(line)
+
+
+@handles_input_errors
+def main(argv: list[str] | None = None) -> int:
+    args = _parser().parse_args(argv)
+    settings = ExportSettings(precision=args.precision, eval_samples=args.eval_samples,
+                              calibration_samples=args.calibration_samples)
+    report_result(export(args.run, args.output, settings, args.zip, args.sign, show_progress=not args.quiet),
+                  args.output)
     return 0

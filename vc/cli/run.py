@@ -24,10 +24,10 @@ from tqdm import tqdm
 
 from vc import __version__
 from vc.cli.common import handles_input_errors, positive_int
+from vc.deploy.frames import Frame, FrameRange, FrameSource
 from vc.deploy.runtime import Runtime
-from vc.draw import draw_people
 from vc.errors import InputError
-from vc.frames import Frame, FrameRange, FrameSource
+from vc.evaluation.draw import draw_people
 from vc.io import atomic_directory, write_image, write_json
 
 DETECTIONS, SUMMARY = "detections.jsonl", "summary.json"

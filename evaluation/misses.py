@@ -1,7 +1,7 @@
 """Why people are missed: a detector's errors on real frames at its operating point, sorted by kind (numpy only).
 
 The analysis behind ``vc-eval``'s ``misses.json`` and ``misses.png``, and how progress on real-frame accuracy is
-read. Boxes are [x0, y0, x1, y1] in frame pixels; matching is :func:`vc.deploy.metrics.evaluate`'s.
+read. Boxes are [x0, y0, x1, y1] in frame pixels; matching is :func:`vc.evaluation.metrics.evaluate`'s.
 
 1. The operating point is the score threshold of best F1 along the precision-recall curve; only detections at
    or above it are kept.
@@ -34,8 +34,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vc.deploy.metrics import IOU_THRESHOLD, Evaluation, ImageResult, box_iou, evaluate
 from vc.deploy.runtime import in_area
+from vc.evaluation.metrics import IOU_THRESHOLD, Evaluation, ImageResult, box_iou, evaluate
 
 #: A detection overlapping a person by at least this IoU (and less than 0.5) makes the person a near miss.
 NEAR_IOU = 0.3
@@ -219,7 +219,7 @@ class OperatingPoint:
 
 def operating_point(images: Sequence[ImageResult]) -> OperatingPoint | None:
     """The score threshold of best F1 over ``images`` and the matches of the detections kept there (None without
-    detections). Matching is :func:`vc.deploy.metrics.evaluate`'s, image by image."""
+    detections). Matching is :func:`vc.evaluation.metrics.evaluate`'s, image by image."""
     evaluation = evaluate(list(images))
     if not len(evaluation.scores):
         return None

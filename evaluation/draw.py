@@ -5,8 +5,8 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from vc.deploy.misses import FalsePositive, PersonOutcome
 from vc.deploy.runtime import Person
+from vc.evaluation.misses import FalsePositive, PersonOutcome
 from vc.keypoints import COCO_SKELETON
 
 #: Distinct colours (RGB) cycled over people.

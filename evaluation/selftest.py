@@ -12,15 +12,19 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from pathlib import Path
 
 import cv2
 import numpy as np
 
-from vc.deploy.metrics import ImageResult, evaluate
 from vc.deploy.runtime import Runtime, in_area
-from vc.draw import draw_people
-from vc.model.data import RegionData, read_sample
+from vc.evaluation.draw import draw_people
+from vc.evaluation.metrics import ImageResult, evaluate
+from vc.io import read_image, write_image
+from vc.model.data import RegionData, open_region, read_sample
 from vc.model.evaluate import asked_for
+from vc.render.dataset import read_manifest
+from vc.stages.config import SelfTestSettings
 
 
 @dataclass
@@ -93,3 +97,16 @@ def self_test(runtime: Runtime, background: np.ndarray, regions: list[RegionData
     evaluation = evaluate(results)
     asked = int(sum((~r.truth_ignore).sum() for r in results))
     return SelfTest(evaluation.ap50, frames, asked, float(np.median(milliseconds)), false_alarms, overlay)
+
+
+def self_test_bundle(bundle: Path, renders: Path, background: Path, settings: SelfTestSettings,
+                     overlay: Path | None = None) -> SelfTest:
+    """The self-test stage: ``bundle`` on ``settings.frames`` frames composed of the held-out renders in
+    ``renders`` on ``background``; with ``overlay``, the frame with the most people is written there drawn with what
+    the bundle found."""
+    regions = [open_region(renders, name) for name in read_manifest(renders)["regions"]]
+    with Runtime(bundle) as runtime:
+        result = self_test(runtime, read_image(background), regions, settings.frames)
+    if overlay is not None:
+        write_image(overlay, result.overlay)
+    return result

@@ -5,12 +5,12 @@ keypoint where a pose model trained on real photos (a YOLO-pose ONNX model throu
 it:
 
 1. Each detector keeps its detections at its own operating point (the score threshold of best F1,
-   :func:`vc.deploy.misses.operating_point`) and is matched to the ground-truth boxes at IoU >= 0.5
-   (:func:`vc.deploy.metrics.evaluate`'s greedy matching).
+   :func:`vc.evaluation.misses.operating_point`) and is matched to the ground-truth boxes at IoU >= 0.5
+   (:func:`vc.evaluation.metrics.evaluate`'s greedy matching).
 2. On every ground-truth person both detectors found, each keypoint the reference is confident of (confidence >=
    :data:`REFERENCE_CONFIDENCE`) is compared with the other detector's: it agrees when within
    :data:`AGREEMENT_HEAD_SIZES` head sizes, a head size being 1/8 of the ground-truth box height (PCKh's head
-   size in :mod:`vc.deploy.metrics`).
+   size in :mod:`vc.evaluation.metrics`).
 3. The share that agrees, per COCO keypoint and overall, is the agreement.
 
 The reference has errors of its own, and COCO's annotators (whose convention a COCO-trained model learns) mark
@@ -26,8 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vc.deploy.metrics import HEAD_FRACTION_OF_HEIGHT, ImageResult
-from vc.deploy.misses import operating_point
+from vc.evaluation.metrics import HEAD_FRACTION_OF_HEIGHT, ImageResult
+from vc.evaluation.misses import operating_point
 from vc.keypoints import COCO_KEYPOINTS
 
 #: The reference's keypoints at or above this confidence are compared.

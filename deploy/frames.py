@@ -1,8 +1,11 @@
 """Frames from an image, a folder of images or a video file, numbered from 1 as the MOT ground truth numbers them.
 
-One reader for ``vc-run`` and ``vc-eval``: both take "an image, a folder of frames or a video", select frames
-with ``first:last:step`` (1-based, inclusive) and must refuse an empty or unreadable input with one clear error
-before anything is written.
+One reader for ``vc-run``, ``vc-eval`` and an appliance: all take "an image, a folder of frames or a video",
+select frames with ``first:last:step`` (1-based, inclusive) and must refuse an empty or unreadable input with one
+clear error before anything is written.
+
+Decoding goes through OpenCV, imported only when frames are read: the appliance runtime installs it with its
+``video`` extra (``visual-compiler-runtime[video]``), and a runtime that is handed frames by its camera needs none.
 """
 
 from __future__ import annotations
@@ -12,11 +15,9 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
-import cv2
 import numpy as np
 
 from vc.errors import InputError
-from vc.io import read_image
 
 IMAGE_SUFFIXES = {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff"}
 
@@ -55,6 +56,25 @@ class FrameRange:
         return cls(first, last, step)
 
 
+def _opencv():
+    try:
+        import cv2
+    except ImportError:
+        raise InputError(None, "frames", "reading images and videos needs OpenCV: install the runtime's 'video' "
+                                         "extra (pip install 'visual-compiler-runtime[video]')") from None
+    return cv2
+
+
+def read_frame_image(path: Path) -> np.ndarray:
+    """An image file as an (H, W, 3) uint8 RGB frame (grey expanded, alpha dropped, deeper images scaled to 8 bits),
+    its pixels as stored: an EXIF orientation is not applied, so frames keep the size of the camera's frames."""
+    cv2 = _opencv()
+    bgr = cv2.imread(str(path), cv2.IMREAD_COLOR | cv2.IMREAD_IGNORE_ORIENTATION)
+    if bgr is None:
+        raise InputError(path, "", "cannot decode as an image (unknown format or corrupt file)")
+    return np.ascontiguousarray(bgr[:, :, ::-1])
+
+
 @dataclass(frozen=True)
 class Frame:
     number: int  # 1-based position in the input
@@ -85,8 +105,8 @@ class FrameSource:
             raise InputError(self.path, "frames", f"the selection {frames.first}:{frames.last or ''}:{frames.step} "
                                                   f"holds none of its {available} frame(s)")
 
-    def _open_video(self) -> cv2.VideoCapture:
-        capture = cv2.VideoCapture(str(self.path))
+    def _open_video(self):
+        capture = _opencv().VideoCapture(str(self.path))
         if not capture.isOpened():
             raise InputError(self.path, "", "cannot open as a video (unknown format or corrupt file)")
         return capture
@@ -97,8 +117,8 @@ class FrameSource:
             ok, _ = capture.read()
             if not ok:
                 raise InputError(self.path, "", "the video holds no readable frame")
-            self.fps = capture.get(cv2.CAP_PROP_FPS) or 10.0
-            return max(int(capture.get(cv2.CAP_PROP_FRAME_COUNT)), 1)
+            self.fps = capture.get(_opencv().CAP_PROP_FPS) or 10.0
+            return max(int(capture.get(_opencv().CAP_PROP_FRAME_COUNT)), 1)
         finally:
             capture.release()
 
@@ -109,7 +129,7 @@ class FrameSource:
         if self.kind != "video":
             for number, file in enumerate(self.files, start=1):
                 if number in self.frames:
-                    yield Frame(number, file.name, read_image(file))
+                    yield Frame(number, file.name, read_frame_image(file))
             return
         capture = self._open_video()
         try:

@@ -15,9 +15,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from vc.deploy.agreement import PoseAgreement  # noqa: E402
-from vc.deploy.metrics import Evaluation  # noqa: E402
-from vc.deploy.misses import NEAR_IOU, OUTCOMES, MissAnalysis  # noqa: E402
+from vc.evaluation.agreement import PoseAgreement  # noqa: E402
+from vc.evaluation.metrics import Evaluation  # noqa: E402
+from vc.evaluation.misses import NEAR_IOU, OUTCOMES, MissAnalysis  # noqa: E402
 from vc.io import atomic_path  # noqa: E402
 from vc.keypoints import COCO_KEYPOINTS  # noqa: E402
 
@@ -101,7 +101,7 @@ def plot_lighting_comparison(background: np.ndarray, rerender: np.ndarray, log_e
 
 
 def plot_miss_analysis(analysis: MissAnalysis, destination: Path, title: str) -> None:
-    """The operating point's errors (:mod:`vc.deploy.misses`): outcomes of people apart and in groups, recall by
+    """The operating point's errors (:mod:`vc.evaluation.misses`): outcomes of people apart and in groups, recall by
     height and region, the near misses' box errors, and the false positives by kind."""
     figure, axes = plt.subplots(2, 2, figsize=(11, 8))
     (outcomes_axis, recall_axis), (near_axis, false_axis) = axes
@@ -157,7 +157,7 @@ def plot_miss_analysis(analysis: MissAnalysis, destination: Path, title: str) ->
 
 def plot_pose_agreement(agreements: Mapping[str, PoseAgreement], destination: Path, title: str) -> None:
     """Per COCO keypoint, the share of a reference pose model's confident keypoints each detector agrees with
-    (:mod:`vc.deploy.agreement`), one bar per detector, its overall share in the legend."""
+    (:mod:`vc.evaluation.agreement`), one bar per detector, its overall share in the legend."""
     figure, axes = plt.subplots(figsize=(10, 5))
     width = 0.8 / max(len(agreements), 1)
     positions = np.arange(len(COCO_KEYPOINTS))

@@ -1,0 +1,209 @@
+"""The evaluate stage: a bundle on real video frames against ground-truth boxes, beside detectors trained on real
+photos (OpenCV's HOG, YOLO-pose style ONNX models), with the bundle's miss analysis and its pose agreement with
+the first external pose model. What ``vc-eval`` runs and what the benchmarks call.
+
+Writes into ``output`` (complete or not at all): ``metrics.json`` (AP50, milliseconds per frame, and for the bundle
+its operating point and recall by person height, group and region), ``precision_recall.png``,
+``contact_sheet.png`` (frames with the bundle's people in colour and the ground truth in white),
+``detections.jsonl``, ``pose_agreement.png`` (with an external pose model) and the bundle's miss analysis
+(:mod:`vc.evaluation.misses`): ``misses.json``, ``misses.png`` and ``worst_frames.png``.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import cv2
+import numpy as np
+from tqdm import tqdm
+
+from vc.deploy.frames import FrameRange, FrameSource
+from vc.deploy.runtime import Person, Runtime
+from vc.errors import InputError
+from vc.evaluation.agreement import AGREEMENT_HEAD_SIZES, REFERENCE_CONFIDENCE, PoseAgreement, pose_agreement
+from vc.evaluation.baselines import Detections, HogPeopleDetector, YoloPoseOnnx
+from vc.evaluation.draw import contact_sheet, draw_errors, draw_people
+from vc.evaluation.metrics import Evaluation, ImageResult, evaluate
+from vc.evaluation.misses import MissAnalysis, analyse_misses, region_lookup
+from vc.evaluation.mot import read_mot_boxes
+from vc.evaluation.plots import plot_miss_analysis, plot_pose_agreement, plot_precision_recall
+from vc.io import atomic_directory, write_image, write_json
+
+OURS = "visual compiler"
+SHEET_FRAMES = 8
+HOG_UPSCALE = 2.0  # HOG's smallest window is 128 px tall: PETS09's people are 50-100 px
+
+
+@dataclass(frozen=True)
+class ExternalModel:
+    """A YOLO-pose style ONNX model to compare with; ``name`` labels it (default: the file name and input size)."""
+
+    path: Path
+    name: str | None = None
+
+
+@dataclass(frozen=True)
+class EvaluationRequest:
+    bundle: Path
+    video: Path  # a video file or a folder of frames
+    ground_truth: Path  # MOT text format
+    output: Path
+    frames: FrameRange | None = None  # None: every annotated frame
+    hog: bool = True
+    hog_upscale: float = HOG_UPSCALE
+    externals: tuple[ExternalModel, ...] = ()  # the first with keypoints is the pose reference
+    external_size: int | None = None  # their square input size (if dynamic)
+    threads: int | None = None  # per detector; None: all cores
+
+
+@dataclass
+class EvaluationReport:
+    metrics: dict  # metrics.json's content
+    evaluations: dict[str, Evaluation]
+    misses: MissAnalysis | None
+    agreements: dict[str, dict[str, PoseAgreement]]  # {reference: {detector: agreement}}
+    frames: int
+    video: Path
+
+
+@dataclass
+class _Record:
+    """One detector's results and timings over the frames."""
+
+    images: list[ImageResult] = field(default_factory=list)
+    milliseconds: list[float] = field(default_factory=list)
+
+    def add(self, truth: np.ndarray, detections: Detections, seconds: float) -> None:
+        self.images.append(ImageResult(truth_boxes=truth, boxes=np.asarray(detections.boxes).reshape(-1, 4),
+                                       scores=np.asarray(detections.scores, np.float64).ravel(),
+                                       keypoints=detections.keypoints))
+        self.milliseconds.append(seconds * 1e3)
+
+    def summary(self, evaluation: Evaluation) -> dict:
+        return {"ap50": round(evaluation.ap50, 4), "ground_truth": evaluation.ground_truth,
+                "detections": int(len(evaluation.scores)),
+                "ms_per_frame": {"median": round(float(np.median(self.milliseconds)), 2),
+                                 "mean": round(float(np.mean(self.milliseconds)), 2)}}
+
+
+def _detectors(request: EvaluationRequest) -> dict:
+    detectors = {}
+    if request.hog:
+        detectors["HOG (OpenCV, real photos)"] = HogPeopleDetector(request.hog_upscale)
+    for external in request.externals:
+        model = YoloPoseOnnx(external.path, request.external_size, request.threads)
+        name = external.name or f"{external.path.name} @{model.size}"
+        if name in detectors or name == OURS:
+            raise InputError(external.path, "--external-name", f"the label {name!r} is taken; give each model its "
+                                                               "own")
+        detectors[name] = model
+    return detectors
+
+
+def _check_selection(source: FrameSource, truth: dict[int, np.ndarray], gt_path: Path) -> None:
+    last_annotated = max(truth)
+    beyond = source.frames.last is None or source.frames.last > last_annotated
+    if beyond and source.count > source.frames.count(last_annotated):
+        raise InputError(gt_path, "frames", f"the selection reaches past the last annotated frame "
+                                            f"({last_annotated}); select with --frames first:{last_annotated}:step")
+
+
+def _pose_agreements(records: dict[str, _Record], others: list[str]) -> dict[str, dict[str, PoseAgreement]]:
+    """{reference: {detector: agreement}}: the bundle and every other pose model against the first external pose
+    model (none without one)."""
+    with_pose = [name for name in others if any(image.keypoints is not None for image in records[name].images)]
+    if not with_pose:
+        return {}
+    reference = with_pose[0]
+    return {reference: {name: pose_agreement(records[name].images, records[reference].images)
+                        for name in [OURS, *with_pose[1:]]}}
+
+
+def _write_miss_analysis(folder: Path, misses: MissAnalysis, video: Path, frames: FrameRange,
+                         people_by_frame: dict[int, list[Person]], title: str) -> None:
+    """``misses.json``, ``misses.png`` and ``worst_frames.png`` (the frames of most errors, read again)."""
+    write_json(folder / "misses.json", misses.to_dict())
+    plot_miss_analysis(misses, folder / "misses.png", title)
+    worst = set(misses.worst_frames(SHEET_FRAMES))
+    if not worst:
+        return
+    sheet = [draw_errors(frame.image, frame.number, people_by_frame[frame.number],
+                         [person for person in misses.people if person.frame == frame.number],
+                         [false for false in misses.false_positives if false.frame == frame.number])
+             for frame in FrameSource(video, frames) if frame.number in worst]
+    write_image(folder / "worst_frames.png", contact_sheet(sheet))
+
+
+def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> EvaluationReport:
+    """Run every detector on every selected frame (each timed), score them, analyse the bundle's misses and write
+    the outputs (see the module's docstring)."""
+    truth = read_mot_boxes(request.ground_truth)
+    with Runtime(request.bundle, threads=request.threads) as runtime:
+        frames = request.frames or FrameRange(1, max(truth))
+        source = FrameSource(request.video, frames)
+        _check_selection(source, truth, request.ground_truth)
+        if request.threads:
+            cv2.setNumThreads(request.threads)
+        others = _detectors(request)
+        records = {OURS: _Record(), **{name: _Record() for name in others}}
+        sheet_numbers = set(np.linspace(0, source.count - 1, min(SHEET_FRAMES, source.count)).round().astype(int))
+        sheet, lines, people_by_frame = [], [], {}
+        width, height = runtime.bundle.frame_size
+        for index, frame in enumerate(tqdm(source, total=len(source), desc="vc-eval", unit="frame",
+                                           disable=not show_progress)):
+            if frame.image.shape != (height, width, 3):
+                raise InputError(request.video, f"frame {frame.number}",
+                                 f"is {frame.image.shape[1]}x{frame.image.shape[0]}, the bundle's camera is "
+                                 f"{width}x{height}")
+            boxes_truth = truth.get(frame.number, np.zeros((0, 4)))
+            start = time.perf_counter()
+            people: list[Person] = runtime(frame.image)
+            seconds = time.perf_counter() - start
+            records[OURS].add(boxes_truth, Detections(np.array([p.box for p in people]).reshape(-1, 4),
+                                                      np.array([p.score for p in people]),
+                                                      np.array([p.keypoints for p in people]).reshape(-1, 17, 3)),
+                              seconds)
+            lines.append({"frame": frame.number, "people": [person.to_dict() for person in people]})
+            people_by_frame[frame.number] = people
+            for name, detector in others.items():
+                start = time.perf_counter()
+                detections = detector(frame.image)
+                records[name].add(boxes_truth, detections, time.perf_counter() - start)
+            if index in sheet_numbers:
+                sheet.append(draw_people(frame.image, people, truth_boxes=boxes_truth))
+        bundle = runtime.bundle
+    evaluations = {name: evaluate(record.images) for name, record in records.items()}
+    areas = {entry.name: entry.owned_image_area for entry in bundle.regions}
+    misses = analyse_misses(records[OURS].images, list(people_by_frame), region_lookup(areas))
+    agreements = _pose_agreements(records, list(others))
+    metrics = {
+        "bundle": str(request.bundle), "scene": bundle.manifest["scene"], "video": str(request.video),
+        "ground_truth": str(request.ground_truth), "frames": {"first": frames.first, "last": frames.last,
+                                                             "step": frames.step, "count": source.count},
+        "threads": request.threads, "iou_threshold": 0.5,
+        "detectors": {name: record.summary(evaluations[name]) for name, record in records.items()},
+        "operating_point": misses.summary() if misses is not None else {},
+        **({"pose_agreement": {"reference": next(iter(agreements)), "reference_confidence": REFERENCE_CONFIDENCE,
+                               "within_head_sizes": AGREEMENT_HEAD_SIZES,
+                               "agreement": {name: agreement.to_dict()
+                                             for name, agreement in agreements[next(iter(agreements))].items()}}}
+           if agreements else {}),
+    }
+    with atomic_directory(request.output) as staging:
+        write_json(staging / "metrics.json", metrics)
+        plot_precision_recall(evaluations, staging / "precision_recall.png",
+                              f"{metrics['scene']}: {source.count} real frames, AP at IoU 0.5")
+        write_image(staging / "contact_sheet.png", contact_sheet(sheet))
+        (staging / "detections.jsonl").write_text("".join(json.dumps(line) + "\n" for line in lines))
+        if agreements:
+            reference = next(iter(agreements))
+            plot_pose_agreement(agreements[reference], staging / "pose_agreement.png",
+                                f"{metrics['scene']}: keypoints within {AGREEMENT_HEAD_SIZES} head sizes of "
+                                f"{reference}'s confident ones (conf >= {REFERENCE_CONFIDENCE})")
+        if misses is not None:
+            _write_miss_analysis(staging, misses, request.video, frames, people_by_frame,
+                                 f"{metrics['scene']}: {source.count} real frames")
+    return EvaluationReport(metrics, evaluations, misses, agreements, source.count, request.video)

@@ -1,0 +1,132 @@
+"""A whole compile: check -> render -> train -> export -> self-test, resumable.
+
+``OUT/compile_config.yaml`` holds the full config (:class:`vc.stages.config.CompileConfig`), ``OUT/compile.json``
+each finished stage's record. Compiling again with the same scene and config skips the finished stages and
+resumes the interrupted one where it stopped (render shards and training checkpoints are kept); another scene or
+config runs every stage again, reusing kept work where it still fits.
+
+What a caller shows while it runs goes through a :class:`Reporter` (the command prints; a benchmark may stay
+silent).
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+from vc.errors import InputError
+from vc.evaluation.selftest import self_test_bundle
+from vc.io import write_json
+from vc.model.train import RegionResult
+from vc.scenes.loader import load_scene
+from vc.scenes.regions import plan_regions
+from vc.stages.config import CONFIG_FILE, CompileConfig, write_config
+from vc.stages.export import ExportResult, export
+from vc.stages.render import RenderJob, prepare_render
+from vc.stages.train import TrainingJob, prepare_training
+
+STATE = "compile.json"
+STAGES = ("check", "render", "train", "export", "self-test")
+
+
+class Reporter:
+    """What a compile tells its caller; each hook does nothing here, a command overrides what it shows."""
+
+    def stage_started(self, name: str) -> None: ...
+
+    def stage_skipped(self, name: str, record: dict) -> None: ...
+
+    def settings_changed(self, state_path: Path) -> None: ...
+
+    def rendering(self, job: RenderJob) -> None: ...
+
+    def rendered(self, summary: dict, output: Path) -> None: ...
+
+    def training(self, job: TrainingJob) -> None: ...
+
+    def trained(self, results: list[RegionResult], run: Path) -> None: ...
+
+    def exported(self, result: ExportResult, bundle: Path) -> None: ...
+
+
+class Compilation:
+    """The stages of one compile of ``scene_path`` into ``output`` and their record."""
+
+    def __init__(self, scene_path: Path, output: Path, config: CompileConfig, show_progress: bool = True,
+                 reporter: Reporter | None = None) -> None:
+        self.scene_path, self.output, self.config = Path(scene_path), Path(output), config
+        self.show_progress, self.reporter = show_progress, reporter or Reporter()
+        self.scene = load_scene(scene_path)
+        self.settings = {"scene": str(scene_path), "scene_hash": self.scene.content_hash, **config.to_dict()}
+        self.renders, self.run_folder = self.output / "renders", self.output / "run"
+        self.bundle, self.overlay = self.output / "bundle", self.output / "overlay.png"
+        self.state = self._read_state()
+
+    def run(self) -> dict:
+        """Every stage not finished before, in order; returns the record (``compile.json``'s content)."""
+        write_config(self.config, self.output / CONFIG_FILE)
+        stages: dict[str, Callable[[], dict]] = {"check": self.check, "render": self.render, "train": self.train,
+                                                 "export": self.export, "self-test": self.self_test}
+        for name in STAGES:
+            self._run_stage(name, stages[name])
+        return self.state
+
+    def _read_state(self) -> dict:
+        path = self.output / STATE
+        if path.is_file():
+            try:
+                state = json.loads(path.read_text())
+            except json.JSONDecodeError as error:
+                raise InputError(path, "", f"not valid JSON ({error}); delete it to start over") from None
+            if state.get("settings") == self.settings:
+                return state
+            self.reporter.settings_changed(path)
+        return {"settings": self.settings, "stages": {}}
+
+    def _run_stage(self, name: str, stage: Callable[[], dict]) -> dict:
+        record = self.state["stages"].get(name)
+        if record:
+            self.reporter.stage_skipped(name, record)
+            return record
+        self.reporter.stage_started(name)
+        start = time.perf_counter()
+        result = stage()
+        record = {"seconds": round(time.perf_counter() - start, 1), **result}
+        self.state["stages"][name] = record
+        write_json(self.output / STATE, self.state)
+        return record
+
+    def check(self) -> dict:
+        return {"regions": [{"name": r.name, "input_size": list(r.input_size)} for r in plan_regions(self.scene)]}
+
+    def render(self) -> dict:
+        job = prepare_render(self.scene_path, self.config.render)
+        self.reporter.rendering(job)
+        self.reporter.rendered(job.run(self.renders, self.show_progress), self.renders)
+        return {}
+
+    def train(self) -> dict:
+        job = prepare_training(self.renders, self.config.train)
+        self.reporter.training(job)
+        results = job.run(self.run_folder, self.show_progress)
+        self.reporter.trained(results, self.run_folder)
+        return {"held_out": {result.region: {key: result.to_dict()[key] for key in ("ap50", "pckh", "mask_iou")}
+                             for result in results}}
+
+    def export(self) -> dict:
+        result = export(self.run_folder, self.bundle, self.config.export, show_progress=self.show_progress)
+        self.reporter.exported(result, self.bundle)
+        size = sum(path.stat().st_size for path in self.bundle.rglob("*") if path.is_file())
+        return {"bundle_bytes": size, "precision": {r["name"]: r["precision"] for r in result.manifest["regions"]}}
+
+    def self_test(self) -> dict:
+        return self_test_bundle(self.bundle, self.renders, self.scene.image_path, self.config.self_test,
+                                self.overlay).to_dict()
+
+
+def compile_scene(scene_path: Path, output: Path, config: CompileConfig, show_progress: bool = True,
+                  reporter: Reporter | None = None) -> dict:
+    """Compile ``scene_path`` into ``output`` (resuming what is there); returns the compile record."""
+    return Compilation(scene_path, output, config, show_progress, reporter).run()

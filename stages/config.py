@@ -1,0 +1,156 @@
+"""One typed config of a compile, and the budgets as its presets.
+
+A compile is four stages' settings (render, train, export, self-test); each field's default is the one its
+library states (``SynthesisSettings``, ``DEFAULT_SHARD_SIZE``, ``TrainConfig``, ``bundle_files``), so there is
+one source for every default, and a budget (:data:`PRESETS`) is the config with a few fields changed, as
+nerfstudio's method configs are presets of one config tree. pydantic, not dataclasses: a config file is user
+input, and its validation names the field and the reason (``train.steps: Input should be greater than 0``).
+
+Every compile writes its full config (``OUT/compile_config.yaml``); ``vc-compile --config FILE`` reads one back
+and ``--set section.field=value`` changes single fields.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+from typing import Literal
+
+import yaml
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from vc.errors import InputError
+from vc.io import atomic_path
+from vc.model.config import DEFAULT_ARCH, network_config
+from vc.model.config import PRESETS as NETWORK_PRESETS
+from vc.model.train import TrainConfig, for_network
+from vc.render.job import DEFAULT_SHARD_SIZE
+from vc.render.synthesis import SynthesisSettings
+
+CONFIG_FILE = "compile_config.yaml"
+DEFAULT_PRESET = "standard"
+
+
+class _Section(BaseModel):
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+
+class RenderSettings(_Section):
+    """How many samples each region gets and how each is made (``vc-render``)."""
+
+    samples: int = Field(ge=1, description="rendered samples per region")
+    spp: int = Field(SynthesisSettings.spp, ge=1, description="path-tracing samples per pixel")
+    seed: int = Field(SynthesisSettings.seed, ge=0, description="dataset seed")
+    max_people: int | None = Field(SynthesisSettings.max_people, ge=0,
+                                   description="most people per sample (None: from the region's ground area)")
+    shard_size: int = Field(DEFAULT_SHARD_SIZE, ge=1, description="samples per shard (the unit of resuming)")
+
+    def synthesis(self) -> SynthesisSettings:
+        return SynthesisSettings(spp=self.spp, seed=self.seed, max_people=self.max_people)
+
+
+class TrainSettings(_Section):
+    """The network and its optimisation (``vc-train``); the rest of :class:`TrainConfig` keeps its defaults."""
+
+    arch: Literal[tuple(sorted(NETWORK_PRESETS))] = DEFAULT_ARCH  # type: ignore[valid-type]
+    width: int | None = Field(None, ge=1, description="the preset's channel width, overridden")
+    sb_units: int | None = Field(None, ge=1, description="the preset's number of SB units, overridden")
+    steps: int = Field(TrainConfig.steps, ge=1, description="optimiser steps per region")
+    batch_size: int = Field(TrainConfig.batch_size, ge=1, description="windows per step")
+    seed: int = Field(TrainConfig.seed, description="seed of the weights and the data order")
+    workers: int = Field(1, ge=0, description="data-loading processes (not part of what is trained)")
+
+    def train_config(self) -> TrainConfig:
+        """The full training config; a width or SB count the network cannot take is bad input."""
+        overrides = {key: value for key, value in (("width", self.width), ("sb_units", self.sb_units))
+                     if value is not None}
+        try:
+            network = replace(network_config(self.arch), **overrides)
+        except ValueError as error:
+            raise InputError(None, "train.width/train.sb_units", str(error)) from None
+        return for_network(network, steps=self.steps, batch_size=self.batch_size, seed=self.seed)
+
+
+class ExportSettings(_Section):
+    """The bundle's precision and what it is measured on (``vc-export``)."""
+
+    precision: Literal["fp32", "fp16", "int8", "auto"] = "fp32"
+    eval_samples: int = Field(200, ge=0, description="held-out renders per region each precision is measured on")
+    calibration_samples: int = Field(64, ge=1, description="training renders per region that calibrate int8")
+
+
+class SelfTestSettings(_Section):
+    """The bundle on full frames composed of held-out renders on the background."""
+
+    frames: int = Field(50, ge=1)
+
+
+class CompileConfig(_Section):
+    """Everything a compile depends on besides the scene."""
+
+    render: RenderSettings
+    train: TrainSettings = TrainSettings()
+    export: ExportSettings = ExportSettings(precision="auto")
+    self_test: SelfTestSettings = SelfTestSettings()
+
+    def with_seed(self, seed: int) -> CompileConfig:
+        """The renders' and the training's seed set together (``vc-compile --seed``)."""
+        return self.model_copy(update={"render": self.render.model_copy(update={"seed": seed}),
+                                       "train": self.train.model_copy(update={"seed": seed})})
+
+    def to_dict(self) -> dict:
+        return self.model_dump(mode="json")
+
+
+PRESETS: dict[str, CompileConfig] = {
+    # about 10 minutes for the demo scene on 2 cores: a working bundle, not an accurate one
+    "quick": CompileConfig(render=RenderSettings(samples=300), train=TrainSettings(steps=200),
+                           export=ExportSettings(precision="auto", eval_samples=100),
+                           self_test=SelfTestSettings(frames=8)),
+    # the default: about 20 minutes of training per region on 2 cores
+    "standard": CompileConfig(render=RenderSettings(samples=2000)),
+    "full": CompileConfig(render=RenderSettings(samples=6000, spp=32), train=TrainSettings(steps=5000),
+                          self_test=SelfTestSettings(frames=100)),
+}
+
+
+def _validated(data: object, path: Path | None, field_prefix: str = "") -> CompileConfig:
+    try:
+        return CompileConfig.model_validate(data)
+    except ValidationError as error:
+        problem = error.errors()[0]
+        where = ".".join(str(part) for part in problem["loc"]) or "(top level)"
+        raise InputError(path, field_prefix + where, problem["msg"]) from None
+
+
+def read_config(path: Path) -> CompileConfig:
+    """A compile config file (YAML, as :func:`write_config` writes it); bad input raises :class:`InputError`."""
+    try:
+        data = yaml.safe_load(Path(path).read_text())
+    except OSError as error:
+        raise InputError(path, "", f"cannot read the config ({error.strerror})") from None
+    except yaml.YAMLError as error:
+        raise InputError(path, "", f"not valid YAML ({error})") from None
+    return _validated(data, path)
+
+
+def write_config(config: CompileConfig, path: Path) -> None:
+    with atomic_path(path) as temporary:
+        temporary.write_text(yaml.safe_dump(config.to_dict(), sort_keys=False))
+
+
+def with_overrides(config: CompileConfig, assignments: list[str]) -> CompileConfig:
+    """``config`` with ``section.field=value`` assignments applied (values read as YAML: ``4``, ``null``,
+    ``int8``), validated as a whole."""
+    data = config.to_dict()
+    for assignment in assignments:
+        name, separator, text = assignment.partition("=")
+        section, dot, field = name.strip().partition(".")
+        if not separator or not dot or section not in data or field not in data[section]:
+            raise InputError(None, f"--set {assignment}", "expected section.field=value with a field of "
+                                                          f"{', '.join(f'{s}.*' for s in data)}")
+        try:
+            data[section][field] = yaml.safe_load(text)
+        except yaml.YAMLError as error:
+            raise InputError(None, f"--set {assignment}", f"the value is not valid YAML ({error})") from None
+    return _validated(data, None, "--set ")

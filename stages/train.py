@@ -1,0 +1,85 @@
+"""The train stage: one network per region of a rendered dataset, checkpointed in a run folder, with the held-out
+metrics of every region merged into ``RUN/metrics.json``."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import torch
+
+from vc.errors import InputError
+from vc.evaluation.plots import plot_precision_recall
+from vc.io import write_json
+from vc.model.data import open_region
+from vc.model.train import RegionResult, RegionTrainer, TrainConfig, select_device
+from vc.render.dataset import read_manifest
+from vc.stages.config import TrainSettings
+
+METRICS = "metrics.json"
+
+
+@dataclass
+class TrainingJob:
+    dataset: Path
+    regions: list[str]
+    settings: TrainSettings
+    config: TrainConfig
+    device: torch.device
+
+    def run(self, run: Path, show_progress: bool = True) -> list[RegionResult]:
+        """Train (or resume) every region in turn, evaluate each on its held-out renders, and write
+        ``RUN/metrics.json`` (regions trained into ``run`` before stay in it) and ``RUN/precision_recall.png``."""
+        results = []
+        for name in self.regions:
+            data = open_region(self.dataset, name, self.config.held_out_fraction)
+            trainer = RegionTrainer(data, self.config, run, self.dataset, self.device, self.settings.workers,
+                                    show_progress=show_progress)
+            trainer.train()
+            results.append(trainer.evaluate())
+        manifest = read_manifest(self.dataset)
+        write_json(run / METRICS, _merged_metrics(run, manifest, self.dataset, self.device.type, results))
+        plot_precision_recall({r.region: r.evaluation.evaluation for r in results}, run / "precision_recall.png",
+                              f"{manifest['scene']}: held-out synthetic")
+        return results
+
+
+def prepare_training(dataset: Path, settings: TrainSettings, region_names: list[str] | None = None) -> TrainingJob:
+    """The regions to train (all of the dataset's by default), the full training config and the device."""
+    return TrainingJob(dataset, _regions(dataset, region_names), settings, settings.train_config(), select_device())
+
+
+def train(dataset: Path, run: Path, settings: TrainSettings, region_names: list[str] | None = None,
+          show_progress: bool = True) -> list[RegionResult]:
+    """The whole stage: :func:`prepare_training` then :meth:`TrainingJob.run`."""
+    return prepare_training(dataset, settings, region_names).run(run, show_progress)
+
+
+def read_metrics(run: Path) -> dict:
+    """``RUN/metrics.json`` as the stage wrote it."""
+    return json.loads((run / METRICS).read_text())
+
+
+def _regions(dataset: Path, names: list[str] | None) -> list[str]:
+    available = list(read_manifest(dataset).get("regions", {}))
+    if not names:
+        return available
+    unknown = [name for name in names if name not in available]
+    if unknown:
+        raise InputError(dataset / "manifest.json", "regions", f"region {', '.join(unknown)} is not in this dataset "
+                                                               f"(it has {', '.join(available) or 'none'})")
+    return list(dict.fromkeys(names))
+
+
+def _merged_metrics(run: Path, manifest: dict, dataset: Path, device: str, results: list[RegionResult]) -> dict:
+    """Regions trained by earlier invocations into the same run stay in ``metrics.json``."""
+    previous = {}
+    if (run / METRICS).is_file():
+        try:
+            previous = read_metrics(run).get("regions", {})
+        except (OSError, json.JSONDecodeError):
+            previous = {}
+    regions = {**previous, **{result.region: result.to_dict() for result in results}}
+    return {"scene": manifest["scene"], "scene_hash": manifest["scene_hash"], "dataset": str(dataset),
+            "device": device, "regions": dict(sorted(regions.items()))}

@@ -1,0 +1,60 @@
+"""The layering the code keeps: commands parse and report, library functions do the work.
+
+No module outside ``vc/cli/`` imports a command module (a command never runs another's argument parser either: the
+library stage is there to call), and no function outside ``vc/cli/`` takes an argparse ``Namespace``. The benchmarks
+are held to the same rule: they call the stages with typed settings, as the commands do."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parent.parent
+LIBRARY = ("vc", "scenes", "calibration", "render", "model", "deploy", "stages", "evaluation", "benchmarks")
+
+
+def _modules() -> list[Path]:
+    return [path for folder in LIBRARY for path in (REPO / folder).rglob("*.py")]
+
+
+def _outside_cli(path: Path) -> bool:
+    return path.relative_to(REPO).parts[:2] != ("vc", "cli")
+
+
+def _imported(tree: ast.AST) -> list[str]:
+    names = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            names += [alias.name for alias in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.module:
+            names += [node.module, *(f"{node.module}.{alias.name}" for alias in node.names)]
+    return names
+
+
+def _namespace_parameters(tree: ast.AST) -> list[str]:
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+            arguments = node.args.posonlyargs + node.args.args + node.args.kwonlyargs
+            for argument in arguments:
+                if argument.annotation is not None and "Namespace" in ast.unparse(argument.annotation):
+                    found.append(f"{node.name}({argument.arg})")
+    return found
+
+
+def test_the_library_knows_the_layout_it_checks():
+    modules = [path for path in _modules() if _outside_cli(path)]
+    assert REPO / "stages" / "compile.py" in modules and REPO / "benchmarks" / "accuracy_vs_time.py" in modules
+    assert REPO / "vc" / "cli" / "compile.py" not in modules
+
+
+def test_no_module_outside_the_commands_imports_one():
+    offenders = {str(path.relative_to(REPO)): name for path in _modules() if _outside_cli(path)
+                 for name in _imported(ast.parse(path.read_text())) if name == "vc.cli" or name.startswith("vc.cli.")}
+    assert offenders == {}
+
+
+def test_no_function_outside_the_commands_takes_parsed_arguments():
+    offenders = {str(path.relative_to(REPO)): found for path in _modules() if _outside_cli(path)
+                 if (found := _namespace_parameters(ast.parse(path.read_text())))}
+    assert offenders == {}
