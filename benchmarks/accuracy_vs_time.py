@@ -340,8 +340,7 @@ class Sweep:
             else:
                 from vc.evaluation.selftest import composite_frame
                 from vc.io import read_image
-                from vc.model.data import open_region
-                from vc.render.dataset import read_manifest
+                from vc.render.dataset import open_region, read_manifest
                 from vc.scenes.loader import load_scene
 
                 renders = self.work / "renders" / BASE.render_key()
@@ -365,8 +364,7 @@ class Sweep:
         from vc.deploy.runtime import Runtime
         from vc.evaluation.selftest import self_test
         from vc.io import read_image
-        from vc.model.data import open_region
-        from vc.render.dataset import read_manifest
+        from vc.render.dataset import open_region, read_manifest
         from vc.scenes.loader import load_scene
 
         regions = [open_region(renders, name) for name in read_manifest(renders)["regions"]]

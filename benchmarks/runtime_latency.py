@@ -69,9 +69,8 @@ def measure(bundle: Path, frames_path: Path, threads: int) -> dict:
 def _frames(run: Path, scene: Path, count: int) -> np.ndarray:
     from vc.evaluation.selftest import composite_frame
     from vc.io import read_image
-    from vc.model.data import open_region
     from vc.model.train import load_checkpoint
-    from vc.render.dataset import read_manifest
+    from vc.render.dataset import open_region, read_manifest
     from vc.scenes.loader import load_scene
 
     checkpoint = load_checkpoint(sorted((run / "checkpoints").glob("*.pt"))[0])

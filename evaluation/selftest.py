@@ -13,6 +13,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import cv2
 import numpy as np
@@ -20,11 +21,12 @@ import numpy as np
 from vc.deploy.runtime import Runtime, in_area
 from vc.evaluation.draw import draw_people
 from vc.evaluation.metrics import ImageResult, evaluate
+from vc.evaluation.renders import asked_for
 from vc.io import read_image, write_image
-from vc.model.data import RegionData, open_region, read_sample
-from vc.model.evaluate import asked_for
-from vc.render.dataset import read_manifest
-from vc.stages.config import SelfTestSettings
+from vc.render.dataset import RegionData, open_region, read_manifest, read_sample
+
+if TYPE_CHECKING:  # the settings' module imports the training config, and with it torch
+    from vc.stages.config import SelfTestSettings
 
 
 @dataclass

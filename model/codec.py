@@ -39,6 +39,9 @@ TRUNCATE_SIGMAS = 4.25
 
 @dataclass(frozen=True)
 class CodecConfig:
+    #: Read strictly when pydantic validates a stored training config (:func:`vc.model.train.read_train_config`).
+    __pydantic_config__ = {"extra": "forbid"}
+
     stride: int = 4  # output stride of the network
     centre_sigma: float = 0.08  # centre Gaussian sigma, as a fraction of the person's height (input px)
     keypoint_sigma: float = 0.025  # keypoint Gaussian sigma, as a fraction of the person's height

@@ -1,13 +1,17 @@
 """Typed, JSON-serialisable ScenePoseNet configurations and the named presets (DESIGN.md, "Model: ScenePoseNet").
 
 A checkpoint and an exported bundle must be able to rebuild the exact network they were trained with, so the
-architecture is a frozen value written next to the weights (``to_dict``) and read back strictly (``from_dict``
-rejects unknown or missing fields, defaults included, instead of silently building a different network).
+architecture is a frozen value written next to the weights (``to_dict``) and read back by pydantic
+(``from_dict``): an unknown field is an error (a newer writer) instead of a silently different network, and a
+field the writer predates takes the value that reproduces the network it wrote. That is the field's default, by
+the rule every new field follows, except ``heatmap_channels``, whose default changed when the handedness maps came.
 """
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, fields
+from dataclasses import asdict, dataclass
+
+from pydantic import TypeAdapter
 
 # The output heat maps' layout (centre, 17 COCO keypoints, mask, handedness) is the decoder's: one definition,
 # in deploy.
@@ -27,6 +31,9 @@ class NetworkConfig:
     speed with a strided stem (heat maps come out at 1/``stem_stride`` of the input) and cheaper large kernels,
     while keeping the receptive field larger than the biggest person a region shows.
     """
+
+    #: Read strictly when pydantic validates a stored training config (:func:`vc.model.train.read_train_config`).
+    __pydantic_config__ = {"extra": "forbid"}
 
     name: str
     stem_stride: int  # 1, 2 or 4; the output stride of the heat maps
@@ -65,14 +72,18 @@ class NetworkConfig:
 
     @classmethod
     def from_dict(cls, data: dict) -> NetworkConfig:
-        """The config written by :meth:`to_dict`. Configs written before the handedness maps have no
-        ``heatmap_channels``: their networks emit the :data:`ANATOMICAL_CHANNELS` maps."""
-        data = {"heatmap_channels": ANATOMICAL_CHANNELS, **data}
-        known = {field.name for field in fields(cls)}
-        unknown, missing = sorted(set(data) - known), sorted(known - set(data))
-        if unknown or missing:
-            raise ValueError(f"network config fields do not match: unknown {unknown}, missing {missing}")
-        return cls(**data)
+        """The config written by :meth:`to_dict` (see the module docstring); raises pydantic's ValidationError (a
+        ValueError) naming the offending fields."""
+        return _NETWORK_CONFIG.validate_python(stored_network_fields(data))
+
+
+def stored_network_fields(data: dict) -> dict:
+    """A stored network config with the values of fields its writer predates that differ from today's defaults:
+    networks written before the handedness maps emit the :data:`ANATOMICAL_CHANNELS` maps."""
+    return {"heatmap_channels": ANATOMICAL_CHANNELS, **data} if isinstance(data, dict) else data
+
+
+_NETWORK_CONFIG = TypeAdapter(NetworkConfig)
 
 
 PRESETS: dict[str, NetworkConfig] = {

@@ -31,10 +31,10 @@ from vc.errors import InputError
 from vc.io import atomic_directory, atomic_path
 from vc.keypoints import COCO_KEYPOINTS, COCO_SKELETON_1BASED
 from vc.model.codec import expected_height_map
-from vc.model.data import RegionData, open_region
 from vc.model.network import ScenePoseNet
 from vc.model.precision import choose_precision
 from vc.model.train import Checkpoint, TrainConfig, load_checkpoint
+from vc.render.dataset import RegionData, open_region
 from vc.versions import package_versions
 
 OPSET = 17
@@ -88,9 +88,9 @@ def _finished_checkpoints(run: Path) -> list[Checkpoint]:
     checkpoints = [load_checkpoint(path) for path in paths]
     for checkpoint in checkpoints:
         content = checkpoint.content
-        if checkpoint.step < content["train_config"]["steps"]:
+        if checkpoint.step < checkpoint.config.steps:
             raise InputError(checkpoint.path, "step", f"training of region {content['region']!r} is not finished "
-                                                      f"(step {checkpoint.step} of {content['train_config']['steps']};"
+                                                      f"(step {checkpoint.step} of {checkpoint.config.steps};"
                                                       f" run vc-train again to resume it)")
         if content["scene_hash"] != checkpoints[0].content["scene_hash"]:
             raise InputError(checkpoint.path, "scene_hash", f"region {content['region']!r} was trained for another "
@@ -102,8 +102,7 @@ def _finished_checkpoints(run: Path) -> list[Checkpoint]:
 
 
 def network_from_checkpoint(checkpoint: Checkpoint) -> ScenePoseNet:
-    config = TrainConfig.from_dict(checkpoint.content["train_config"])
-    net = ScenePoseNet(config.network)
+    net = ScenePoseNet(checkpoint.config.network)
     net.load_state_dict(checkpoint.content["model"])
     return net.eval()
 
@@ -134,12 +133,12 @@ def bundle_files(run: Path, precision: str = "fp32", eval_samples: int = 200, ca
     """
     checkpoints = _finished_checkpoints(run)
     first = checkpoints[0].content
-    first_config = TrainConfig.from_dict(first["train_config"])
+    first_config = checkpoints[0].config
     files: dict[str, bytes] = {}
     regions = []
     for checkpoint in checkpoints:
         content, name = checkpoint.content, checkpoint.content["region"]
-        config = TrainConfig.from_dict(content["train_config"])
+        config = checkpoint.config
         entry = content["region_entry"]
         crop_window = [int(v) for v in entry["crop_window"]]
         crop_size, input_size = (crop_window[2], crop_window[3]), tuple(int(v) for v in entry["input_size"])

@@ -26,6 +26,9 @@ class LossWeights:
     per-pixel MSE is about ten times smaller; ``pose`` makes up for that so that pose is not learned last.
     """
 
+    #: Read strictly when pydantic validates a stored training config (:func:`vc.model.train.read_train_config`).
+    __pydantic_config__ = {"extra": "forbid"}
+
     detection: float = 1.0
     pose: float = 10.0
     segmentation: float = 1.0

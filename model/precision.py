@@ -29,8 +29,8 @@ from onnxruntime.quantization.shape_inference import quant_pre_process
 from onnxruntime.transformers.float16 import convert_float_to_float16
 
 from vc.deploy.decode import DecodeConfig
-from vc.model.data import Sample, read_sample
 from vc.model.evaluate import RegionEvaluation, evaluate_source
+from vc.render.dataset import Sample, read_sample
 
 PRECISIONS = ("fp32", "fp16", "int8")
 #: ``auto`` keeps int8 for a region when its held-out AP50 and PCKh@0.5 fall by at most this much from fp32.

@@ -14,11 +14,13 @@ import math
 import os
 import pickle
 import time
-from dataclasses import asdict, dataclass, field, fields
+from dataclasses import asdict, dataclass, field, replace
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
 import torch
+from pydantic import TypeAdapter, ValidationError
 from torch.torch_version import TorchVersion
 from torch.utils.data import DataLoader
 from tqdm import tqdm
@@ -29,11 +31,12 @@ from vc.errors import InputError, StageError
 from vc.evaluation.plots import plot_precision_recall, plot_training_curve
 from vc.io import atomic_path
 from vc.model.codec import CodecConfig, expected_height_map
-from vc.model.config import DEFAULT_ARCH, NetworkConfig, network_config
-from vc.model.data import Augmentation, CropPolicy, RegionData, TrainingStream
+from vc.model.config import DEFAULT_ARCH, NetworkConfig, network_config, stored_network_fields
+from vc.model.data import Augmentation, CropPolicy, TrainingStream
 from vc.model.evaluate import RegionEvaluation, evaluate_network
 from vc.model.loss import LossWeights, scene_pose_loss
 from vc.model.network import ScenePoseNet
+from vc.render.dataset import RegionData
 
 CHECKPOINT_FORMAT = 1
 CHECKPOINT_KIND = "vc-train checkpoint"
@@ -45,6 +48,9 @@ HISTORY_EVERY = 10
 class TrainConfig:
     """Everything that decides a trained network besides the data: two runs with equal configs (and data) give
     the same weights."""
+
+    #: Read strictly when pydantic validates a stored training config (:func:`vc.model.train.read_train_config`).
+    __pydantic_config__ = {"extra": "forbid"}
 
     network: NetworkConfig = field(default_factory=lambda: network_config(DEFAULT_ARCH))
     codec: CodecConfig = CodecConfig()
@@ -62,9 +68,11 @@ class TrainConfig:
     held_out_fraction: float = 0.1
 
     def __post_init__(self) -> None:
-        if self.codec.stride != self.network.stem_stride or self.decode.stride != self.network.stem_stride:
-            raise ValueError(f"codec stride {self.codec.stride} and decode stride {self.decode.stride} must equal "
-                             f"the network's output stride {self.network.stem_stride}")
+        # The output stride is the network's alone: the codec that draws the targets and the decoder that reads
+        # the outputs take it from there, so no caller can pass a mismatched one.
+        stride = self.network.stem_stride
+        object.__setattr__(self, "codec", replace(self.codec, stride=stride))
+        object.__setattr__(self, "decode", replace(self.decode, stride=stride))
         if self.steps < 1 or self.batch_size < 1:
             raise ValueError("steps and batch_size must be at least 1")
 
@@ -73,22 +81,30 @@ class TrainConfig:
 
     @classmethod
     def from_dict(cls, data: dict) -> TrainConfig:
-        nested = {"network": NetworkConfig.from_dict, "codec": lambda d: CodecConfig(**d),
-                  "loss": lambda d: LossWeights(**d), "augmentation": lambda d: Augmentation(**d),
-                  "crop": lambda d: CropPolicy(size=tuple(d["size"]), near_person=d["near_person"]),
-                  "decode": lambda d: DecodeConfig(**d)}
-        known = {f.name for f in fields(cls)}
-        if set(data) != known:
-            raise ValueError(f"training config fields do not match: unknown {sorted(set(data) - known)}, "
-                             f"missing {sorted(known - set(data))}")
-        return cls(**{key: nested[key](value) if key in nested else value for key, value in data.items()})
+        """The config written by :meth:`to_dict`, nested configs included, validated by pydantic: an unknown field
+        anywhere is an error (a newer writer), a field the writer predates takes its default (the rule for a new
+        field: its default reproduces what the code did before it). Raises pydantic's ValidationError (a
+        ValueError); :func:`read_train_config` turns it into an InputError naming the field."""
+        if isinstance(data, dict) and "network" in data:
+            data = {**data, "network": stored_network_fields(data["network"])}
+        return _TRAIN_CONFIG.validate_python(data)
 
 
-def for_network(network: NetworkConfig, **overrides) -> TrainConfig:
-    """A training config whose codec and decoder use ``network``'s output stride."""
-    stride = network.stem_stride
-    return TrainConfig(network=network, codec=CodecConfig(stride=stride), decode=DecodeConfig(stride=stride),
-                       **overrides)
+_TRAIN_CONFIG = TypeAdapter(TrainConfig)
+
+
+def read_train_config(data: dict, path: Path) -> TrainConfig:
+    """:meth:`TrainConfig.from_dict` for the config stored in the file at ``path``: one InputError naming the file
+    and the first offending field (``train_config.<field>``), every problem in its reason."""
+    try:
+        return TrainConfig.from_dict(data)
+    except ValidationError as error:
+        problems = error.errors()
+        where = [".".join(str(part) for part in problem["loc"]) for problem in problems]
+        reason = "; ".join(f"{field or 'config'}: {problem['msg']}" for field, problem in zip(where, problems,
+                                                                                               strict=True))
+        raise InputError(path, f"train_config.{where[0]}".rstrip("."), f"stored training config not readable by "
+                                                                       f"this version ({reason})") from None
 
 
 def select_device() -> torch.device:
@@ -117,6 +133,12 @@ def reference_height_m(data: RegionData) -> float:
 class Checkpoint:
     path: Path
     content: dict
+
+    @cached_property
+    def config(self) -> TrainConfig:
+        """The training config the checkpoint was written with (an InputError naming the field if this version
+        cannot read it)."""
+        return read_train_config(self.content.get("train_config"), self.path)
 
     @property
     def step(self) -> int:
@@ -162,7 +184,9 @@ def load_checkpoint(path: Path, scene_hash: str | None = None, region: str | Non
                                              f"({scene_hash[:12]}…); train into a new run folder")
     if region is not None and content["region"] != region:
         raise InputError(path, "region", f"checkpoint is for region {content['region']!r}, not {region!r}")
-    return Checkpoint(path, content)
+    checkpoint = Checkpoint(path, content)
+    checkpoint.config  # noqa: B018 (read now: a config this version cannot read is an error at load, not later)
+    return checkpoint
 
 
 def _differences(old: dict, new: dict, prefix: str = "") -> list[str]:
@@ -218,7 +242,7 @@ class RegionTrainer:
 
     def _resume(self, checkpoint: Checkpoint) -> None:
         # The decoder only scores held-out renders: a run resumes under another decoder's settings.
-        changes = [change for change in _differences(checkpoint.content["train_config"], self.config.to_dict())
+        changes = [change for change in _differences(checkpoint.config.to_dict(), self.config.to_dict())
                    if not change.startswith("decode.")]
         if changes:
             raise InputError(checkpoint.path, "train_config", "this run was started with other settings ("

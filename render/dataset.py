@@ -11,6 +11,11 @@
 A shard is written into ``shard-NNNNN.partial/`` and renamed into place when complete, so a finished shard is
 never rewritten and a crash leaves at most one partial folder, which the next run discards and redoes. Shards
 depend only on the manifest's settings, so a resumed run yields the same bytes as an uninterrupted one.
+
+The reader is here too, torch-free (training, export and the self-test use it): :func:`open_region` checks and
+indexes one region and splits it. Held-out data is whole shards (the last ``held_out_fraction`` of them, at least
+one; a region needs two shards or more), so that evaluation never sees a training sample and the split is the
+same on every machine.
 """
 
 from __future__ import annotations
@@ -24,8 +29,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import numpy as np
+
+from vc.calibration.camera import Camera, camera_from_dict
+from vc.deploy.heatmaps import PAIRS
 from vc.errors import InputError
-from vc.io import FAST_PNG_COMPRESSION, write_image, write_json
+from vc.io import FAST_PNG_COMPRESSION, read_image, write_image, write_json
 from vc.keypoints import COCO_KEYPOINTS, COCO_SKELETON_1BASED
 
 if TYPE_CHECKING:
@@ -188,3 +197,91 @@ def write_manifest(root: Path, manifest: dict, existing: dict | None = None) -> 
     """Write the manifest, keeping regions an earlier run rendered and this one did not touch."""
     regions = {**(existing or {}).get("regions", {}), **manifest["regions"]}
     write_json(root / MANIFEST, {**manifest, "regions": dict(sorted(regions.items()))})
+
+
+@dataclass(frozen=True)
+class Sample:
+    image_path: Path
+    mask_path: Path
+    annotations: list[dict]
+
+
+@dataclass(frozen=True)
+class RegionData:
+    """One region of a dataset: its entry in the manifest and its samples, split into train and held-out."""
+
+    name: str
+    manifest: dict
+    region: dict
+    train: list[Sample]
+    held_out: list[Sample]
+
+    @property
+    def input_size(self) -> tuple[int, int]:
+        width, height = self.region["input_size"]
+        return width, height
+
+
+def _shard_samples(shard: Path, camera: Camera) -> list[Sample]:
+    path = shard / ANNOTATIONS
+    try:
+        document = json.loads(path.read_text())
+        images = document["images"]
+        by_image: dict[int, list[dict]] = {image["id"]: [] for image in images}
+        for annotation in document["annotations"]:
+            annotation["left_is_image_left"] = _left_is_image_left(annotation, camera)
+            by_image[annotation["image_id"]].append(annotation)
+    except FileNotFoundError:
+        raise InputError(path, "", "shard has no annotations (an interrupted render? run vc-render again)") from None
+    except (OSError, json.JSONDecodeError, KeyError, TypeError) as error:
+        raise InputError(path, "", f"corrupt shard annotations ({type(error).__name__}: {error})") from None
+    if not images:
+        raise InputError(path, "images", "shard holds no samples")
+    samples = []
+    for image in images:
+        sample = Sample(shard / image["file_name"], shard / image["mask_file"], by_image[image["id"]])
+        for file in (sample.image_path, sample.mask_path):
+            if not file.is_file():
+                raise InputError(file, "", "missing from its shard")
+        samples.append(sample)
+    return samples
+
+
+def _left_is_image_left(annotation: dict, camera: Camera) -> list[bool]:
+    """Per keypoint pair, whether the person's left member lies further left in the region's image than the right
+    one: the codec's image order (:mod:`vc.deploy.heatmaps`). From the 3-D keypoints that vc-render records, so
+    that it is defined for keypoints outside the image too; annotations without them are ordered by their
+    labelled pixels (a pair with an unlabelled member keeps its anatomical order)."""
+    keypoints_m = annotation.get("attributes", {}).get("keypoints_m")
+    if keypoints_m is not None:
+        x = camera.project(np.asarray(keypoints_m, np.float64)).uv[:, 0]
+        return [bool(x[left] <= x[right]) for left, right in PAIRS]
+    labels = np.reshape(annotation["keypoints"], (-1, 3))
+    return [bool(labels[left, 2] == 0 or labels[right, 2] == 0 or labels[left, 0] <= labels[right, 0])
+            for left, right in PAIRS]
+
+
+def open_region(root: Path, region: str, held_out_fraction: float = 0.1) -> RegionData:
+    """Check and index one region of the dataset at ``root``."""
+    manifest = read_manifest(root)
+    regions = manifest.get("regions", {})
+    if region not in regions:
+        raise InputError(root / MANIFEST, "regions", f"region {region!r} is not in this dataset (it has "
+                                                     f"{', '.join(regions) or 'none'})")
+    shards = sorted(path for path in (root / region).glob("shard-*") if path.is_dir() and "." not in path.name)
+    if not shards:
+        raise InputError(root / region, "", "no finished shards for this region")
+    if len(shards) < 2:
+        raise InputError(root / region, "", f"{len(shards)} finished shard; training holds whole shards out for "
+                                            "evaluation, so it needs at least 2 (render more samples or a smaller "
+                                            "--shard-size)")
+    held = max(1, round(len(shards) * held_out_fraction))
+    camera = camera_from_dict(regions[region]["camera"])
+    train = [s for shard in shards[:len(shards) - held] for s in _shard_samples(shard, camera)]
+    held_out = [s for shard in shards[len(shards) - held:] for s in _shard_samples(shard, camera)]
+    return RegionData(region, manifest, regions[region], train, held_out)
+
+
+def read_sample(sample: Sample) -> tuple[np.ndarray, np.ndarray]:
+    """A sample's image (H, W, 3) uint8 and instance map (H, W) uint8."""
+    return read_image(sample.image_path), read_image(sample.mask_path)[..., 0]

@@ -23,7 +23,7 @@ from vc.errors import InputError
 from vc.io import atomic_path
 from vc.model.config import DEFAULT_ARCH, network_config
 from vc.model.config import PRESETS as NETWORK_PRESETS
-from vc.model.train import TrainConfig, for_network
+from vc.model.train import TrainConfig
 from vc.render.job import DEFAULT_SHARD_SIZE
 from vc.render.synthesis import SynthesisSettings
 
@@ -68,7 +68,7 @@ class TrainSettings(_Section):
             network = replace(network_config(self.arch), **overrides)
         except ValueError as error:
             raise InputError(None, "train.width/train.sb_units", str(error)) from None
-        return for_network(network, steps=self.steps, batch_size=self.batch_size, seed=self.seed)
+        return TrainConfig(network=network, steps=self.steps, batch_size=self.batch_size, seed=self.seed)
 
 
 class ExportSettings(_Section):

@@ -12,9 +12,8 @@ import torch
 from vc.errors import InputError
 from vc.evaluation.plots import plot_precision_recall
 from vc.io import write_json
-from vc.model.data import open_region
 from vc.model.train import RegionResult, RegionTrainer, TrainConfig, select_device
-from vc.render.dataset import read_manifest
+from vc.render.dataset import open_region, read_manifest
 from vc.stages.config import TrainSettings
 
 METRICS = "metrics.json"

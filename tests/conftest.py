@@ -75,13 +75,13 @@ def trained_run(tmp_path_factory) -> Path:
     """A finished two-step run of the small network on a flat test dataset (tests/dataset_factory.py)."""
     from dataset_factory import write_dataset
 
-    from vc.model.data import open_region
-    from vc.model.train import RegionTrainer, for_network
+    from vc.model.train import RegionTrainer, TrainConfig
+    from vc.render.dataset import open_region
 
     root = tmp_path_factory.mktemp("export")
     data_root = write_dataset(root / "dataset")
     run = root / "run"
-    config = for_network(SMALL, steps=2, batch_size=2, warmup_steps=1)
+    config = TrainConfig(network=SMALL, steps=2, batch_size=2, warmup_steps=1)
     RegionTrainer(open_region(data_root, "r0"), config, run, data_root, workers=0, show_progress=False).train()
     return run
 

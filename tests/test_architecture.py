@@ -7,6 +7,8 @@ are held to the same rule: they call the stages with typed settings, as the comm
 from __future__ import annotations
 
 import ast
+import subprocess
+import sys
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
@@ -58,3 +60,12 @@ def test_no_function_outside_the_commands_takes_parsed_arguments():
     offenders = {str(path.relative_to(REPO)): found for path in _modules() if _outside_cli(path)
                  if (found := _namespace_parameters(ast.parse(path.read_text())))}
     assert offenders == {}
+
+
+def test_reading_renders_and_self_testing_a_bundle_load_no_training_or_rendering_engine():
+    """The dataset reader sits apart from the torch training stream: reading renders (the self-test, vc-eval)
+    must not pay for importing torch, nor for mitsuba."""
+    probe = ("import sys, vc.render.dataset, vc.evaluation.selftest, vc.evaluation.renders; "
+             "print(sorted({'torch', 'mitsuba', 'drjit', 'anny'} & set(sys.modules)))")
+    loaded = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True).stdout
+    assert loaded.strip() == "[]"

@@ -13,7 +13,7 @@ import yaml
 
 from vc.cli import compile as compile_cli
 from vc.evaluation.selftest import composite_frame
-from vc.model.data import open_region
+from vc.render.dataset import open_region
 from vc.stages.config import CONFIG_FILE, PRESETS, CompileConfig, read_config
 
 pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("anny")]

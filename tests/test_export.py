@@ -26,11 +26,11 @@ from vc.deploy.heatmaps import HEATMAP_CHANNELS, channel_names
 from vc.deploy.runtime import Runtime, in_area
 from vc.errors import InputError
 from vc.io import write_image
-from vc.model.data import open_region
 from vc.model.export import DeployedNetwork, bundle_files, export_onnx
 from vc.model.network import ScenePoseNet
 from vc.model.precision import auto_precision, to_fp16, to_int8
-from vc.model.train import RegionTrainer, for_network, load_checkpoint
+from vc.model.train import RegionTrainer, TrainConfig, load_checkpoint
+from vc.render.dataset import open_region
 
 
 def _trained_network(seed: int = 0) -> ScenePoseNet:
@@ -166,7 +166,7 @@ def test_ownership_follows_the_owned_area_with_holes():
 
 def test_an_unfinished_run_is_not_exported(tmp_path, capsys):
     data_root = write_dataset(tmp_path / "dataset")
-    config = for_network(SMALL, steps=4, batch_size=2, warmup_steps=1, checkpoint_every=2)
+    config = TrainConfig(network=SMALL, steps=4, batch_size=2, warmup_steps=1, checkpoint_every=2)
     RegionTrainer(open_region(data_root, "r0"), config, tmp_path / "run", data_root, workers=0,
                   show_progress=False).train(until=2)
     assert vc_export([str(tmp_path / "run"), "-o", str(tmp_path / "bundle")]) == 2

@@ -12,7 +12,8 @@ import pytest
 from vc.deploy.heatmaps import CENTRE_CHANNEL, HANDEDNESS_CHANNELS, HEATMAP_CHANNELS, MASK_CHANNEL, PAIRS
 from vc.errors import InputError
 from vc.model.codec import CodecConfig
-from vc.model.data import Augmentation, TrainingStream, open_region
+from vc.model.data import Augmentation, TrainingStream
+from vc.render.dataset import open_region
 from vc.render.job import RenderRequest, render_dataset
 from vc.render.plan import plan_render
 from vc.render.synthesis import SynthesisSettings

@@ -267,7 +267,7 @@ def test_a_scene_without_walkable_area_in_view_is_refused(tmp_path, capsys) -> N
 
 
 def test_a_dataset_of_an_unknown_format_is_refused_by_the_trainer(tmp_path):
-    from vc.model.data import open_region
+    from vc.render.dataset import open_region
 
     (tmp_path / "manifest.json").write_text(json.dumps({"format_version": 99, "regions": {}}))
     with pytest.raises(InputError, match="unsupported dataset format 99"):

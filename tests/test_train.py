@@ -17,10 +17,11 @@ from vc.deploy.heatmaps import HEATMAP_CHANNELS
 from vc.errors import InputError
 from vc.model.codec import CodecConfig, encode
 from vc.model.config import network_config
-from vc.model.data import CropPolicy, TrainingStream, open_region
+from vc.model.data import CropPolicy, TrainingStream
 from vc.model.loss import LossWeights, heatmap_terms, scene_pose_loss
 from vc.model.network import ScenePoseNet
-from vc.model.train import RegionTrainer, TrainConfig, checkpoint_path, for_network, learning_rate_factor
+from vc.model.train import RegionTrainer, TrainConfig, checkpoint_path, learning_rate_factor, load_checkpoint
+from vc.render.dataset import open_region
 
 SMALL = replace(network_config("fast"), name="small", width=16, residual_units=1, sb_reduction=2)
 
@@ -31,7 +32,7 @@ def flat_dataset(tmp_path_factory) -> Path:
 
 
 def _config(**overrides) -> TrainConfig:
-    return for_network(SMALL, **{"steps": 4, "batch_size": 2, "checkpoint_every": 2, "warmup_steps": 1,
+    return TrainConfig(network=SMALL, **{"steps": 4, "batch_size": 2, "checkpoint_every": 2, "warmup_steps": 1,
                                  "crop": CropPolicy(size=(64, 64)), **overrides})
 
 
@@ -129,6 +130,52 @@ def test_resuming_with_other_settings_is_refused(flat_dataset, tmp_path):
                   show_progress=False).train(until=2)
     with pytest.raises(InputError, match="learning_rate 0.002 -> 0.01"):
         RegionTrainer(open_region(flat_dataset, "r0"), _config(learning_rate=0.01), tmp_path, flat_dataset)
+
+
+def _rewrite_stored_config(path: Path, edit) -> None:
+    content = torch.load(path, weights_only=True)
+    edit(content["train_config"])
+    torch.save(content, path)
+
+
+def test_a_stored_config_missing_a_newer_field_resumes_with_its_default(flat_dataset, tmp_path):
+    """A field added after a checkpoint was written takes its default (which reproduces the old behaviour), so
+    the run resumes; a run that asks for another value is told which field differs."""
+    RegionTrainer(open_region(flat_dataset, "r0"), _config(), tmp_path, flat_dataset, workers=0,
+                  show_progress=False).train(until=2)
+    _rewrite_stored_config(checkpoint_path(tmp_path, "r0"), lambda config: config["loss"].pop("handedness"))
+    resumed = RegionTrainer(open_region(flat_dataset, "r0"), _config(), tmp_path, flat_dataset, workers=0,
+                            show_progress=False)
+    assert resumed.step == 2
+    with pytest.raises(InputError, match="loss.handedness 1.0 -> 2.0"):
+        RegionTrainer(open_region(flat_dataset, "r0"), _config(loss=LossWeights(handedness=2.0)), tmp_path,
+                      flat_dataset)
+
+
+@pytest.mark.parametrize(("edit", "field", "reason"), [
+    (lambda config: config["crop"].update(jitter=0.5), "train_config.crop.jitter", "Unexpected keyword argument"),
+    (lambda config: config["network"].update(stem_stride=3), "train_config.network", "stem_stride must be one of"),
+    (lambda config: config.update(steps="many"), "train_config.steps", "valid integer"),
+])
+def test_a_stored_config_this_version_cannot_read_names_the_file_and_field(flat_dataset, tmp_path, capsys, edit,
+                                                                          field, reason):
+    RegionTrainer(open_region(flat_dataset, "r0"), _config(), tmp_path, flat_dataset, workers=0,
+                  show_progress=False).train(until=2)
+    path = checkpoint_path(tmp_path, "r0")
+    _rewrite_stored_config(path, edit)
+    with pytest.raises(InputError) as error:
+        load_checkpoint(path)
+    assert error.value.path == str(path) and error.value.field == field and reason in error.value.reason
+    assert vc_train([str(flat_dataset), "-o", str(tmp_path), "--quiet", "--workers", "0"]) == 2
+    assert f"{path}: {field}: " in capsys.readouterr().err
+
+
+def test_the_output_stride_is_the_network_s_alone():
+    """Codec and decoder take the network's stride whatever they were given, so the three never disagree."""
+    stride_one = replace(SMALL, stem_stride=1)
+    config = TrainConfig(network=stride_one, codec=CodecConfig(stride=4))
+    assert config.codec.stride == config.decode.stride == 1
+    assert TrainConfig.from_dict(config.to_dict()) == config
 
 
 def test_vc_train_writes_checkpoints_metrics_and_curves(flat_dataset, tmp_path, capsys):

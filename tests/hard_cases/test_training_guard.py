@@ -10,8 +10,8 @@ from dataset_factory import write_dataset
 
 from vc.errors import StageError
 from vc.model import train as train_module
-from vc.model.data import open_region
-from vc.model.train import RegionTrainer, checkpoint_path, for_network, load_checkpoint
+from vc.model.train import RegionTrainer, TrainConfig, checkpoint_path, load_checkpoint
+from vc.render.dataset import open_region
 
 
 def test_a_diverging_loss_stops_training_and_keeps_the_last_good_checkpoint(tmp_path, monkeypatch):
@@ -24,7 +24,7 @@ def test_a_diverging_loss_stops_training_and_keeps_the_last_good_checkpoint(tmp_
         return (loss * float("nan"), parts) if len(calls) > 2 else (loss, parts)
 
     monkeypatch.setattr(train_module, "scene_pose_loss", diverging)
-    config = for_network(SMALL, steps=5, batch_size=2, warmup_steps=1, checkpoint_every=1)
+    config = TrainConfig(network=SMALL, steps=5, batch_size=2, warmup_steps=1, checkpoint_every=1)
     trainer = RegionTrainer(open_region(data_root, "r0"), config, tmp_path / "run", data_root, workers=0,
                             show_progress=False)
     with pytest.raises(StageError, match=r"r0: the training loss became nan at step 2 .* step 2\) is kept"):
