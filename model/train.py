@@ -10,6 +10,8 @@ the resumed run ends with the same weights as one that never stopped.
 
 from __future__ import annotations
 
+import hashlib
+import io
 import math
 import os
 import pickle
@@ -38,7 +40,10 @@ from vc.model.loss import LossWeights, scene_pose_loss
 from vc.model.network import ScenePoseNet
 from vc.render.dataset import RegionData
 
-CHECKPOINT_FORMAT = 1
+#: 2: the content carries its own digest (``content_sha256``, :func:`content_digest`).
+CHECKPOINT_FORMAT = 2
+#: 1 differs from 2 only by the missing digest: such checkpoints are read unchecked.
+READABLE_CHECKPOINT_FORMATS = (1, 2)
 CHECKPOINT_KIND = "vc-train checkpoint"
 #: Loss values kept for the training curve: one per this many steps (mean of the steps in between).
 HISTORY_EVERY = 10
@@ -151,6 +156,34 @@ class Checkpoint:
         return (self.path.parent.parent / self.content["dataset"]).resolve()
 
 
+def content_digest(content: dict) -> str:
+    """SHA-256 of a checkpoint's content: each tensor's dtype, shape and bytes and each other value's repr, dict
+    keys in sorted order. ``torch.load`` does not check the archive's CRCs (a flipped bit in a weight loads
+    silently), so the digest stored beside the content is what finds a damaged file."""
+    digest = hashlib.sha256()
+
+    def feed(value: object) -> None:
+        if isinstance(value, torch.Tensor):
+            tensor = value.detach().cpu().contiguous()
+            digest.update(f"T{tensor.dtype}{tuple(tensor.shape)}:".encode())
+            digest.update(tensor.reshape(-1).view(torch.uint8).numpy().tobytes())
+        elif isinstance(value, dict):
+            digest.update(f"D{len(value)}:".encode())
+            for key in sorted(value, key=repr):
+                feed(key)
+                feed(value[key])
+        elif isinstance(value, list | tuple):
+            digest.update(f"L{len(value)}:".encode())
+            for item in value:
+                feed(item)
+        else:
+            text = repr(value).encode()
+            digest.update(f"V{len(text)}:".encode() + text)
+
+    feed(content)
+    return digest.hexdigest()
+
+
 def checkpoint_path(run: Path, region: str) -> Path:
     return run / "checkpoints" / f"{region}.pt"
 
@@ -175,9 +208,13 @@ def load_checkpoint(path: Path, scene_hash: str | None = None, region: str | Non
         raise InputError(path, "", f"not a readable checkpoint ({type(error).__name__}: {error})") from None
     if not isinstance(content, dict) or content.get("kind") != CHECKPOINT_KIND:
         raise InputError(path, "kind", f"not a {CHECKPOINT_KIND}")
-    if content.get("format_version") != CHECKPOINT_FORMAT:
+    if content.get("format_version") not in READABLE_CHECKPOINT_FORMATS:
         raise InputError(path, "format_version", f"unsupported checkpoint format {content.get('format_version')!r} "
-                                                 f"(this version reads {CHECKPOINT_FORMAT})")
+                                                 f"(this version reads "
+                                                 f"{', '.join(map(str, READABLE_CHECKPOINT_FORMATS))})")
+    if content["format_version"] >= 2 and content.pop("content_sha256", None) != content_digest(content):
+        raise InputError(path, "content_sha256", "the checkpoint does not match its digest (the file is damaged); "
+                                                 "restore it, or delete it to train this region from the start")
     if scene_hash is not None and content["scene_hash"] != scene_hash:
         raise InputError(path, "scene_hash", f"checkpoint belongs to scene {content['scene']!r} "
                                              f"({content['scene_hash'][:12]}…), not to this dataset's scene "
@@ -266,8 +303,13 @@ class RegionTrainer:
             "model": self.net.state_dict(), "optimizer": self.optimizer.state_dict(),
             "schedule": self.schedule.state_dict(),
         }
+        content["content_sha256"] = content_digest(content)
+        # Serialised in memory and written by Python, so that a full disk is an OSError naming the file (torch's
+        # own writer fails with a bare RuntimeError) and the previous checkpoint stays in place.
+        buffer = io.BytesIO()
+        torch.save(content, buffer)
         with atomic_path(self.path) as temporary:
-            torch.save(content, temporary)
+            temporary.write_bytes(buffer.getbuffer())
 
     def _loader(self, last: int) -> DataLoader:
         stream = TrainingStream(self.data.train, self.config.codec, self.data.input_size, self.config.crop,

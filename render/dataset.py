@@ -8,6 +8,9 @@
   fields each annotation has ``center``, ``foot``, ``amodal_bbox``, ``instance_id`` and the person's 3-D
   ``attributes`` (see :mod:`vc.render.labels`).
 
+* ``SHA256SUMS``: the SHA-256 of every other file of the shard, in ``sha256sum`` format (``sha256sum -c``
+  checks it by hand). A damaged shard is found by it: ``vc-render`` re-makes it, readers refuse it.
+
 A shard is written into ``shard-NNNNN.partial/`` and renamed into place when complete, so a finished shard is
 never rewritten and a crash leaves at most one partial folder, which the next run discards and redoes. Shards
 depend only on the manifest's settings, so a resumed run yields the same bytes as an uninterrupted one.
@@ -20,6 +23,7 @@ same on every machine.
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import shutil
@@ -34,18 +38,21 @@ import numpy as np
 from vc.calibration.camera import Camera, camera_from_dict
 from vc.deploy.heatmaps import PAIRS
 from vc.errors import InputError
-from vc.io import FAST_PNG_COMPRESSION, read_image, write_image, write_json
+from vc.io import FAST_PNG_COMPRESSION, atomic_path, read_image, write_image, write_json
 from vc.keypoints import COCO_KEYPOINTS, COCO_SKELETON_1BASED
 
 if TYPE_CHECKING:
     from vc.render.synthesis import RenderedSample
 
 #: 2: the manifest records the render plan (light, camera measurements, effects with their parameters).
-FORMAT_VERSION = 2
-#: Dataset formats this version reads: 1 (before the render plan was recorded) differs from 2 only by it.
-READABLE_FORMAT_VERSIONS = (1, 2)
+#: 3: every shard carries its checksums (:data:`CHECKSUMS`).
+FORMAT_VERSION = 3
+#: Dataset formats this version reads: 1 (before the render plan was recorded) and 2 differ from 3 only by what
+#: they lack; their shards are read unchecked.
+READABLE_FORMAT_VERSIONS = (1, 2, 3)
 MANIFEST = "manifest.json"
 ANNOTATIONS = "annotations.json"
+CHECKSUMS = "SHA256SUMS"
 #: Annotation ids are sample index * this + instance id (a sample never holds this many people).
 ANNOTATION_ID_STRIDE = 100
 PERSON_CATEGORY = {
@@ -80,6 +87,40 @@ def plan_shards(region: str, samples: int, shard_size: int) -> list[Shard]:
 def is_complete(root: Path, shard: Shard) -> bool:
     """A shard folder exists under its final name only once everything in it is written."""
     return (shard.folder(root) / ANNOTATIONS).is_file()
+
+
+def _sha256(path: Path) -> str:
+    with path.open("rb") as file:
+        return hashlib.file_digest(file, "sha256").hexdigest()
+
+
+def write_checksums(folder: Path) -> None:
+    """Record the SHA-256 of every file under ``folder`` in ``folder/SHA256SUMS`` (sorted, ``sha256sum`` format)."""
+    files = sorted(path for path in folder.rglob("*") if path.is_file() and path.name != CHECKSUMS)
+    lines = [f"{_sha256(path)}  {path.relative_to(folder).as_posix()}\n" for path in files]
+    with atomic_path(folder / CHECKSUMS) as temporary:
+        temporary.write_text("".join(lines))
+
+
+def damaged_files(folder: Path) -> list[str]:
+    """The files of ``folder`` that differ from its ``SHA256SUMS`` (missing ones and the list itself included,
+    when it cannot be read); empty for an intact folder."""
+    try:
+        listed = dict(reversed(line.split("  ", 1)) for line in (folder / CHECKSUMS).read_text().splitlines())
+    except (OSError, UnicodeDecodeError, ValueError):
+        return [CHECKSUMS]
+    present = {path.relative_to(folder).as_posix() for path in folder.rglob("*")
+               if path.is_file() and path.name != CHECKSUMS}
+    damaged = sorted(present - set(listed))  # a file nobody wrote
+    for name, digest in sorted(listed.items()):
+        if name not in present or _sha256(folder / name) != digest:
+            damaged.append(name)
+    return damaged
+
+
+def has_checksums(manifest: dict) -> bool:
+    """Whether a dataset's shards carry checksums (format 3 on)."""
+    return manifest.get("format_version", 0) >= 3
 
 
 def image_name(index: int) -> str:
@@ -130,6 +171,7 @@ def write_shard(root: Path, shard: Shard, samples: Iterable[RenderedSample], inf
             future.result()
     document = coco_document({**info, "shard": shard.name}, written)
     write_json(partial / ANNOTATIONS, document)
+    write_checksums(partial)
     os.replace(partial, final)
     return {"samples": len(written), "people": len(document["annotations"])}
 
@@ -222,7 +264,11 @@ class RegionData:
         return width, height
 
 
-def _shard_samples(shard: Path, camera: Camera) -> list[Sample]:
+def _shard_samples(shard: Path, camera: Camera, checked: bool) -> list[Sample]:
+    if checked and (damaged := damaged_files(shard)):
+        raise InputError(shard / damaged[0], "", f"does not match the shard's {CHECKSUMS} ({len(damaged)} damaged "
+                                                 f"file(s) in {shard.name}); run vc-render on the dataset again to "
+                                                 f"re-make the shard")
     path = shard / ANNOTATIONS
     try:
         document = json.loads(path.read_text())
@@ -262,7 +308,8 @@ def _left_is_image_left(annotation: dict, camera: Camera) -> list[bool]:
 
 
 def open_region(root: Path, region: str, held_out_fraction: float = 0.1) -> RegionData:
-    """Check and index one region of the dataset at ``root``."""
+    """Check and index one region of the dataset at ``root``: every shard against its checksums (a damaged one is
+    an InputError naming the file, never read), then its annotations."""
     manifest = read_manifest(root)
     regions = manifest.get("regions", {})
     if region not in regions:
@@ -277,8 +324,9 @@ def open_region(root: Path, region: str, held_out_fraction: float = 0.1) -> Regi
                                             "--shard-size)")
     held = max(1, round(len(shards) * held_out_fraction))
     camera = camera_from_dict(regions[region]["camera"])
-    train = [s for shard in shards[:len(shards) - held] for s in _shard_samples(shard, camera)]
-    held_out = [s for shard in shards[len(shards) - held:] for s in _shard_samples(shard, camera)]
+    checked = has_checksums(manifest)
+    train = [s for shard in shards[:len(shards) - held] for s in _shard_samples(shard, camera, checked)]
+    held_out = [s for shard in shards[len(shards) - held:] for s in _shard_samples(shard, camera, checked)]
     return RegionData(region, manifest, regions[region], train, held_out)
 
 

@@ -1,12 +1,15 @@
 """Render a scene's dataset: plan shards, skip finished ones, render the rest with a progress bar, summarise.
 
-Resumable by construction: finished shards are never touched, a partial one is redone, and every sample is a
+Resumable by construction: finished shards are never touched (one that no longer matches its checksums is
+re-made), a partial one is redone, and every sample is a
 pure function of the manifest's settings — so a run killed at any moment and started again with the same
 command yields the same bytes as an uninterrupted run.
 """
 
 from __future__ import annotations
 
+import logging
+import shutil
 import time
 from collections import defaultdict
 from collections.abc import Iterator
@@ -25,6 +28,7 @@ from vc.scenes.regions import Region
 from vc.versions import package_versions
 
 DEFAULT_SHARD_SIZE = 100
+logger = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -46,6 +50,20 @@ def _samples(synthesizer: RegionSynthesizer, shard: dataset.Shard, timings: dict
             timings[stage] += seconds
         progress.update(1)
         yield sample
+
+
+def _intact(root: Path, shard: dataset.Shard) -> bool:
+    """Whether a shard is finished and matches its checksums. A damaged one is removed (with a line saying which
+    file was wrong) so that it is rendered again: its samples are a pure function of the settings, so the new
+    shard has the bytes the old one had."""
+    if not dataset.is_complete(root, shard):
+        return False
+    damaged = dataset.damaged_files(shard.folder(root))
+    if damaged:
+        logger.warning("%s: %s does not match its checksum; rendering the shard again",
+                       shard.folder(root), damaged[0])
+        shutil.rmtree(shard.folder(root))
+    return not damaged
 
 
 def manifest(request: RenderRequest, counts: dict[str, dict] | None = None) -> dict:
@@ -80,8 +98,7 @@ def render_dataset(request: RenderRequest, bodies: BodyModel | None = None, show
     dataset.write_manifest(root, manifest(request), existing)
     shards = {region.name: dataset.plan_shards(region.name, request.samples, request.shard_size)
               for region in request.regions}
-    missing = {name: [shard for shard in planned if not dataset.is_complete(root, shard)]
-               for name, planned in shards.items()}
+    missing = {name: [shard for shard in planned if not _intact(root, shard)] for name, planned in shards.items()}
     to_render = sum(shard.stop - shard.start for planned in missing.values() for shard in planned)
 
     start = time.perf_counter()

@@ -15,7 +15,7 @@ import onnx
 import onnxruntime as ort
 import pytest
 import torch
-from conftest import SMALL
+from conftest import SMALL, rewrite_checkpoint
 from dataset_factory import INPUT_SIZE, region_camera, sample, write_dataset
 
 from vc.cli.export import main as vc_export
@@ -221,9 +221,7 @@ def test_an_int8_bundle_records_every_precision_and_runs(trained_run, tmp_path):
 
 def test_int8_without_the_training_dataset_is_refused(trained_run, tmp_path, capsys):
     run = Path(shutil.copytree(trained_run, tmp_path / "run"))
-    checkpoint = torch.load(run / "checkpoints" / "r0.pt", weights_only=True)
-    checkpoint["dataset"] = str(tmp_path / "moved")
-    torch.save(checkpoint, run / "checkpoints" / "r0.pt")
+    rewrite_checkpoint(run / "checkpoints" / "r0.pt", lambda content: content.update(dataset=str(tmp_path / "moved")))
     assert vc_export([str(run), "-o", str(tmp_path / "bundle"), "--precision", "int8"]) == 2
     assert "needs the dataset the region was trained on" in capsys.readouterr().err
     assert not (tmp_path / "bundle").exists()
@@ -315,6 +313,7 @@ def test_a_checkpoint_written_before_the_rule_still_loads(trained_run, tmp_path)
     from torch.torch_version import TorchVersion
 
     checkpoint = torch.load(trained_run / "checkpoints" / "r0.pt", weights_only=True)
-    checkpoint["versions"] = {"torch": TorchVersion(torch.__version__)}  # what checkpoints held before
+    checkpoint.pop("content_sha256")  # what checkpoints held before: format 1, no digest, torch's version object
+    checkpoint.update(format_version=1, versions={"torch": TorchVersion(torch.__version__)})
     torch.save(checkpoint, tmp_path / "old.pt")
     assert load_checkpoint(tmp_path / "old.pt").step == checkpoint["step"]

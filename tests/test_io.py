@@ -60,3 +60,34 @@ def test_a_folder_under_a_file_is_an_input_error(tmp_path):
     with pytest.raises(InputError, match="cannot create output folder"), \
             atomic_directory(tmp_path / "file" / "bundle"):
         pass
+
+
+def test_temporaries_a_killed_writer_left_are_cleared_by_the_next_write(tmp_path):
+    """A SIGKILL between creating a temporary and renaming it leaves the temporary behind; the next write of the
+    same output removes it (one output has one writer at a time), and leaves other outputs' temporaries alone."""
+    (tmp_path / ".out.json.x1y2.tmp.json").write_text("half")
+    (tmp_path / ".bundle.k3.tmp").mkdir()
+    (tmp_path / ".other.json.z9.tmp.json").write_text("someone else's")
+    write_json(tmp_path / "out.json", {"a": 1})
+    with atomic_directory(tmp_path / "bundle") as staging:
+        (staging / "m").write_text("x")
+    assert sorted(path.name for path in tmp_path.iterdir()) == [".other.json.z9.tmp.json", "bundle", "out.json"]
+
+
+def test_a_write_that_finds_no_room_is_an_output_error_naming_the_file(tmp_path, monkeypatch):
+    import errno
+    import os
+
+    from vc.errors import OutputError, StageError
+
+    write_json(tmp_path / "out.json", {"kept": True})
+
+    def full_disk(source, destination):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(os, "replace", full_disk)
+    with pytest.raises(OutputError, match=f"cannot write {tmp_path / 'out.json'}: No space left on device") as error:
+        write_json(tmp_path / "out.json", {"kept": False})
+    assert isinstance(error.value, StageError)  # exit status 1: good input, no room
+    assert (tmp_path / "out.json").read_text() == '{\n  "kept": true\n}\n'
+    assert [path.name for path in tmp_path.iterdir()] == ["out.json"]

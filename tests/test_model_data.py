@@ -13,7 +13,7 @@ from vc.deploy.heatmaps import CENTRE_CHANNEL, HANDEDNESS_CHANNELS, HEATMAP_CHAN
 from vc.errors import InputError
 from vc.model.codec import CodecConfig
 from vc.model.data import Augmentation, TrainingStream
-from vc.render.dataset import open_region
+from vc.render.dataset import CHECKSUMS, open_region
 from vc.render.job import RenderRequest, render_dataset
 from vc.render.plan import plan_render
 from vc.render.synthesis import SynthesisSettings
@@ -97,16 +97,31 @@ def _broken_copy(small_dataset: Path, tmp_path: Path) -> Path:
     return copy
 
 
-@pytest.mark.parametrize(("damage", "message"), [
+SHARD_DAMAGE = [
     (lambda root: (root / "r0" / "shard-00000" / "annotations.json").write_text("{not json"), "corrupt shard"),
     (lambda root: (root / "r0" / "shard-00000" / "annotations.json").unlink(), "shard has no annotations"),
     (lambda root: (root / "r0" / "shard-00000" / "images" / "000001.png").unlink(), "missing from its shard"),
     (lambda root: (root / "r0" / "shard-00000" / "annotations.json").write_text(
         json.dumps({"images": [], "annotations": []})), "shard holds no samples"),
-    (lambda root: (root / "manifest.json").unlink(), "not a vc-render dataset"),
-])
-def test_bad_shards_are_named_in_one_clear_error(small_dataset, tmp_path, damage, message) -> None:
+]
+
+
+@pytest.mark.parametrize(("damage", "message"), SHARD_DAMAGE)
+def test_damaged_shards_are_refused_by_their_checksums(small_dataset, tmp_path, damage, message) -> None:
     copy = _broken_copy(small_dataset, tmp_path)
+    damage(copy)
+    with pytest.raises(InputError, match=f"does not match the shard's {CHECKSUMS}"):
+        open_region(copy, "r0")
+
+
+@pytest.mark.parametrize(("damage", "message"), [*SHARD_DAMAGE, (lambda root: (root / "manifest.json").unlink(),
+                                                                  "not a vc-render dataset")])
+def test_bad_shards_of_a_dataset_without_checksums_are_named_in_one_clear_error(small_dataset, tmp_path, damage,
+                                                                                message) -> None:
+    """Datasets written before shards carried checksums (format 2) are read unchecked, but not blindly."""
+    copy = _broken_copy(small_dataset, tmp_path)
+    manifest = json.loads((copy / "manifest.json").read_text())
+    (copy / "manifest.json").write_text(json.dumps({**manifest, "format_version": 2}))
     damage(copy)
     with pytest.raises(InputError, match=message):
         open_region(copy, "r0")

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import torch
+from conftest import rewrite_checkpoint
 from dataset_factory import INPUT_SIZE, write_dataset
 
 from vc.cli.train import main as vc_train
@@ -20,7 +21,13 @@ from vc.model.config import network_config
 from vc.model.data import CropPolicy, TrainingStream
 from vc.model.loss import LossWeights, heatmap_terms, scene_pose_loss
 from vc.model.network import ScenePoseNet
-from vc.model.train import RegionTrainer, TrainConfig, checkpoint_path, learning_rate_factor, load_checkpoint
+from vc.model.train import (
+    RegionTrainer,
+    TrainConfig,
+    checkpoint_path,
+    learning_rate_factor,
+    load_checkpoint,
+)
 from vc.render.dataset import open_region
 
 SMALL = replace(network_config("fast"), name="small", width=16, residual_units=1, sb_reduction=2)
@@ -133,9 +140,7 @@ def test_resuming_with_other_settings_is_refused(flat_dataset, tmp_path):
 
 
 def _rewrite_stored_config(path: Path, edit) -> None:
-    content = torch.load(path, weights_only=True)
-    edit(content["train_config"])
-    torch.save(content, path)
+    rewrite_checkpoint(path, lambda content: edit(content["train_config"]))
 
 
 def test_a_stored_config_missing_a_newer_field_resumes_with_its_default(flat_dataset, tmp_path):

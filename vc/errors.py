@@ -6,6 +6,7 @@ never sees a traceback for a mistake in their own files.
 
 from __future__ import annotations
 
+import errno
 from pathlib import Path
 
 #: Exit status for bad input (files, fields, arguments), as argparse uses for bad arguments.
@@ -31,3 +32,18 @@ class InputError(Exception):
 class StageError(Exception):
     """A stage that could not finish on good input (training diverged): one line saying what happened and what
     was kept, exit status 1."""
+
+
+#: errno values that mean "no room to write": a full disk, a full quota, a file-size limit.
+NO_ROOM = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EFBIG})
+
+
+class OutputError(StageError):
+    """An output that could not be written on good input (a full disk, a quota, a file-size limit, a failing
+    device). Outputs are written under temporary names and renamed into place, so everything finished before the
+    failure is intact: the same command resumes once there is room."""
+
+    def __init__(self, path: str | Path, reason: str) -> None:
+        self.path = str(path)
+        super().__init__(f"cannot write {path}: {reason}; everything finished before it is kept: make room and "
+                         f"run the same command again to resume")

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import atexit
 import contextlib
+import errno
+import glob
 import json
 import os
 import shutil
@@ -19,7 +21,7 @@ from pathlib import Path
 import numpy as np
 import OpenImageIO as oiio
 
-from vc.errors import InputError
+from vc.errors import NO_ROOM, InputError, OutputError
 
 
 @atexit.register
@@ -45,16 +47,34 @@ def atomic_path(destination: str | Path) -> Iterator[Path]:
         raise InputError(destination.parent, "", f"cannot create output folder ({error.strerror})") from None
     if not os.access(destination.parent, os.W_OK):
         raise InputError(destination.parent, "", "output folder is not writable")
-    handle, temporary = tempfile.mkstemp(prefix=f".{destination.name}.", suffix=".tmp" + destination.suffix,
-                                         dir=destination.parent)
+    prefix, suffix = f".{destination.name}.", ".tmp" + destination.suffix
+    _remove_stale_temporaries(destination.parent, prefix, suffix)
+    try:
+        handle, temporary = tempfile.mkstemp(prefix=prefix, suffix=suffix, dir=destination.parent)
+    except OSError as error:
+        raise OutputError(destination, error.strerror) from None
     os.close(handle)
     os.chmod(temporary, 0o644)  # mkstemp's 0600 is for the temporary; the file it becomes is an ordinary output
     temporary_path = Path(temporary)
     try:
         yield temporary_path
         os.replace(temporary_path, destination)
+    except OSError as error:
+        if error.errno in NO_ROOM or error.errno in (errno.EIO, errno.EROFS):
+            raise OutputError(destination, error.strerror) from None
+        raise
     finally:
         temporary_path.unlink(missing_ok=True)
+
+
+def _remove_stale_temporaries(folder: Path, prefix: str, suffix: str) -> None:
+    """Temporaries of the same output that a run killed mid-write (SIGKILL, power loss) left behind. One output
+    has one writer at a time, so any such file is stale."""
+    for stale in folder.glob(f"{glob.escape(prefix)}*{glob.escape(suffix)}"):
+        if stale.is_dir() and not stale.is_symlink():
+            shutil.rmtree(stale, ignore_errors=True)
+        else:
+            stale.unlink(missing_ok=True)
 
 
 @contextlib.contextmanager
@@ -62,11 +82,15 @@ def atomic_directory(destination: str | Path) -> Iterator[Path]:
     """Yield a staging folder beside ``destination``; it replaces ``destination`` only if the block succeeds, so a
     reader sees the old folder or the complete new one, never a half-written one."""
     destination = Path(destination)
+    prefix = f".{destination.name}."
     try:
         destination.parent.mkdir(parents=True, exist_ok=True)
-        staging = Path(tempfile.mkdtemp(prefix=f".{destination.name}.", suffix=".tmp", dir=destination.parent))
+        _remove_stale_temporaries(destination.parent, prefix, ".tmp")
+        staging = Path(tempfile.mkdtemp(prefix=prefix, suffix=".tmp", dir=destination.parent))
         staging.chmod(0o755)
     except OSError as error:
+        if error.errno in NO_ROOM:
+            raise OutputError(destination, error.strerror) from None
         raise InputError(destination.parent, "", f"cannot create output folder ({error.strerror})") from None
     try:
         yield staging
@@ -140,8 +164,10 @@ def write_image(destination: str | Path, pixels: np.ndarray, png_compression: in
         spec = oiio.ImageSpec(width, height, channels, oiio.UINT8)
         if png_compression is not None:
             spec.attribute("png:compressionLevel", int(png_compression))
-        if not output.open(str(temporary), spec) or not output.write_image(pixels):
-            message = output.geterror()
-            output.close()
-            raise OSError(f"cannot write {destination}: {message}")
-        output.close()
+        written = output.open(str(temporary), spec) and output.write_image(pixels)
+        # OpenImageIO reports a short write (a full disk) only through geterror: write_image still says True.
+        message = output.geterror()
+        closed = output.close()
+        if not (written and closed) or message:
+            reason = (message or oiio.geterror() or "the image library failed").splitlines()[0].strip()
+            raise OutputError(destination, reason)

@@ -9,12 +9,13 @@ import logging
 import sys
 from collections.abc import Callable
 
-from vc.errors import EXIT_BAD_INPUT, EXIT_STAGE_FAILED, InputError, StageError
+from vc.errors import EXIT_BAD_INPUT, EXIT_STAGE_FAILED, NO_ROOM, InputError, OutputError, StageError
 
 
 def handles_input_errors(main: Callable[[list[str] | None], int]) -> Callable[[list[str] | None], int]:
     """Turn an :class:`InputError` escaping ``main`` into one ``error:`` line on stderr and exit status 2, a
-    :class:`StageError` into one line and status 1."""
+    :class:`StageError` (an :class:`OutputError` too, and an OSError that says the disk is full) into one line and
+    status 1."""
 
     @functools.wraps(main)
     def wrapper(argv: list[str] | None = None) -> int:
@@ -26,6 +27,11 @@ def handles_input_errors(main: Callable[[list[str] | None], int]) -> Callable[[l
             return EXIT_BAD_INPUT
         except StageError as error:
             print(f"error: {error}", file=sys.stderr)
+            return EXIT_STAGE_FAILED
+        except OSError as error:
+            if error.errno not in NO_ROOM:
+                raise
+            print(f"error: {OutputError(error.filename or 'an output', error.strerror)}", file=sys.stderr)
             return EXIT_STAGE_FAILED
         except KeyboardInterrupt:
             print("interrupted", file=sys.stderr)
