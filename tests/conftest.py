@@ -38,6 +38,15 @@ def load_benchmark(name: str) -> ModuleType:
     return load_script(REPO / "benchmarks" / f"{name}.py", name)
 
 
+def write_compile_config(folder: Path, settings: dict) -> Path:
+    """A ``vc-compile --config`` file holding ``settings`` (sections of :class:`vc.stages.config.CompileConfig`)."""
+    import yaml
+
+    path = folder / "budget.yaml"
+    path.write_text(yaml.safe_dump(settings))
+    return path
+
+
 def rewrite_checkpoint(path: Path, edit) -> None:
     """Stand-in for a checkpoint another writer made, intact: its content edited in place by ``edit`` and its
     digest sealed again (a file edited without that is a damaged one, and refused as such)."""

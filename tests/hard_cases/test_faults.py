@@ -21,7 +21,7 @@ from pathlib import Path
 
 import pytest
 import torch
-import yaml
+from conftest import write_compile_config
 
 from vc.errors import InputError
 from vc.model.train import checkpoint_path, load_checkpoint
@@ -71,9 +71,7 @@ def _kill_when(command: list[str], reached: Callable[[], bool], then_wait: float
 
 @pytest.fixture(scope="module")
 def budget(tmp_path_factory) -> Path:
-    path = tmp_path_factory.mktemp("budget") / "faults.yaml"
-    path.write_text(yaml.safe_dump(FAULT_BUDGET))
-    return path
+    return write_compile_config(tmp_path_factory.mktemp("budget"), FAULT_BUDGET)
 
 
 @pytest.fixture(scope="module")

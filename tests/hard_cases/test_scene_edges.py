@@ -7,7 +7,7 @@ import json
 
 import numpy as np
 import pytest
-import yaml
+from conftest import write_compile_config
 from scene_factory import base_scene, write_scene
 
 from vc.calibration.camera import look_at
@@ -81,8 +81,7 @@ def test_edge_cameras_compile_to_a_bundle_with_finite_labels_and_outputs(tmp_pat
     from vc.model.train import checkpoint_path, load_checkpoint
 
     scene = write_scene(tmp_path / "scene", PLANNED[case])
-    config = tmp_path / "toy.yaml"
-    config.write_text(yaml.safe_dump(TOY))
+    config = write_compile_config(tmp_path, TOY)
     output = tmp_path / "out"
     assert vc_compile([str(scene), "-o", str(output), "--config", str(config), "--quiet"]) == 0, \
         capsys.readouterr().err
