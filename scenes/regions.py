@@ -28,6 +28,8 @@ GRID_CELLS = 320
 PERSON_RADIUS_M = 0.35
 #: Pieces of ground smaller than this (m^2) are slivers of grid interpolation, not regions.
 MIN_REGION_AREA_M2 = 0.05
+#: The tallest person a region plans for, as a fraction of the image height: beyond it no crop holds them.
+MAX_PERSON_FRACTION = 1.0
 
 
 @dataclass(frozen=True)
@@ -121,9 +123,34 @@ def visible_ground(camera: Camera, max_distance: float, border_step_px: float = 
     return fan.intersection(disc)
 
 
+def ground_where_people_fit(camera: Camera, domain: shapely.Geometry, tallest_m: float) -> shapely.Geometry:
+    """The part of ``domain`` where the tallest person projects whole (head in front of the camera, inside the
+    lens model's domain) and no taller than the image (:data:`MAX_PERSON_FRACTION`).
+
+    Next to a low, wide camera a person's head can reach the camera's own height or its image plane, where the
+    pixel height grows without bound: no crop can hold such a person and no height band can be drawn there."""
+    x0, y0, x1, y1 = domain.bounds
+    step = max(x1 - x0, y1 - y0) / GRID_CELLS
+    xs, ys = np.arange(x0 - step, x1 + 2 * step, step), np.arange(y0 - step, y1 + 2 * step, step)
+    gx, gy = np.meshgrid(xs, ys)
+    heights = camera.person_pixel_height(np.stack([gx, gy, np.zeros_like(gx)], axis=-1), tallest_m)
+    limit = MAX_PERSON_FRACTION * camera.height
+    if np.nanmax(heights, initial=0.0) <= limit and np.isfinite(heights).all():
+        return domain  # the usual case: everyone fits everywhere
+    fits = np.where(np.isfinite(heights) & (heights <= limit), 1.0, 0.0)
+    polygons, offsets = contourpy.contour_generator(gx, gy, fits, fill_type=contourpy.FillType.OuterOffset
+                                                    ).filled(0.5, 1.5)
+    rings = [Polygon(points[offset[0]:]) if len(offset) == 1 else
+             Polygon(points[offset[0]:offset[1]], [points[a:b] for a, b in zip(offset[1:-1], offset[2:], strict=True)])
+             for points, offset in zip(polygons, offsets, strict=True)]
+    area = shapely.union_all([shapely.make_valid(ring) for ring in rings]) if rings else Polygon()
+    return _without_slivers(domain.intersection(area))
+
+
 def planning_domain(scene: Scene, spec: RegionPlanSpec) -> shapely.Geometry:
-    """Walkable, standable ground that the camera sees with people at least ``min_person_px`` tall."""
-    low_height = scene.priors.height_m[0]
+    """Walkable, standable ground that the camera sees with people at least ``min_person_px`` tall and, for
+    the tallest, whole and no taller than the image."""
+    low_height, tallest = scene.priors.height_m
     reach = max_visible_distance(scene.camera, low_height, spec.min_person_px)
     domain = scene.layout.standable_area().intersection(visible_ground(scene.camera, reach))
     domain = _without_slivers(domain)
@@ -131,6 +158,11 @@ def planning_domain(scene: Scene, spec: RegionPlanSpec) -> shapely.Geometry:
         raise InputError(scene.path, "layout.walkable", "no walkable area is in view of the camera (within "
                                                         f"{reach:.0f} m, where people are >= "
                                                         f"{spec.min_person_px:g} px tall)")
+    domain = ground_where_people_fit(scene.camera, domain, tallest)
+    if domain.is_empty:
+        raise InputError(scene.path, "camera", f"everywhere in view, a {tallest:g} m person is taller than the "
+                                               f"image or cannot be seen whole (the camera is too close to the "
+                                               f"walkable area, or too low beside it)")
     return domain
 
 

@@ -5,15 +5,22 @@ unlabelled or far outside it. No NaN or inf comes out except as a flagged miss, 
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
+import pytest
 from hard_case_settings import PROPERTY
 from hypothesis import assume, given
 from hypothesis import strategies as st
+from scene_factory import base_scene, write_scene
 
 from vc.calibration.camera import Camera, look_at
 from vc.calibration.distortion import BrownConrady
 from vc.deploy.heatmaps import CENTRE_CHANNEL, HANDEDNESS_CHANNELS, KEYPOINT_CHANNELS, MASK_CHANNEL, PAIRS
+from vc.errors import InputError
 from vc.model.codec import CodecConfig, encode
+from vc.scenes.loader import Scene, load_scene
+from vc.scenes.regions import plan_regions
 
 WIDTH, HEIGHT = 640, 480
 finite = {"allow_nan": False, "allow_infinity": False}
@@ -85,3 +92,26 @@ def test_targets_of_any_people_are_finite_and_in_range(sample, stride):
     peaks = maps[[CENTRE_CHANNEL, *range(KEYPOINT_CHANNELS.start, KEYPOINT_CHANNELS.stop), MASK_CHANNEL]]
     assert peaks.min() >= 0.0 and peaks.max() <= 1.0
     assert np.abs(maps[HANDEDNESS_CHANNELS]).max(initial=0.0) <= 1.0 + 1e-6
+
+
+@pytest.fixture(scope="module")
+def unit_scene(tmp_path_factory) -> Scene:
+    return load_scene(write_scene(tmp_path_factory.mktemp("scene"), base_scene()))
+
+
+@PROPERTY
+@given(camera=cameras())
+def test_region_planning_at_any_pose_is_finite_or_refused(unit_scene, camera):
+    """The unit scene's layout seen from anywhere: regions whose people, crops and inputs are finite and inside
+    the image, or one InputError (nothing walkable in view, people too small everywhere), never anything else."""
+    scene = replace(unit_scene, camera=camera)
+    try:
+        regions = plan_regions(scene)
+    except InputError:
+        return
+    assert regions
+    for region in regions:
+        assert np.isfinite([*region.person_px, *region.reference_px]).all() and 0 < region.person_px[0]
+        x, y, width, height = region.crop.to_list()
+        assert 0 <= x and 0 <= y and x + width <= WIDTH and y + height <= HEIGHT and width > 0 and height > 0
+        assert min(region.input_size) > 0

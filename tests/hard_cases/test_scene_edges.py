@@ -41,6 +41,8 @@ PLANNED["a crowded region (everyone in groups on 4 m x 4 m)"] = {**base_scene(),
                                                                        [-2.0, 8.0]]]}}
 REFUSED = {
     "a camera looking at the sky": (_looking([0.0, -12.0, 2.0], [0.0, 10.0, 12.0]), "no walkable area is in view"),
+    "people taller than the image everywhere (a long lens close by)": (
+        _looking([0.0, -5.0, 1.0], [0.0, 5.0, 0.5], focal=3000.0), "taller than the image or cannot be seen whole"),
     "people under 16 px everywhere (a camera far off)": (
         _looking([0.0, -60.0, 10.0], [0.0, 8.0, 0.0], focal=150.0), "where people are >= 16 px tall"),
 }
