@@ -138,13 +138,8 @@ def ground_where_people_fit(camera: Camera, domain: shapely.Geometry, tallest_m:
     if np.nanmax(heights, initial=0.0) <= limit and np.isfinite(heights).all():
         return domain  # the usual case: everyone fits everywhere
     fits = np.where(np.isfinite(heights) & (heights <= limit), 1.0, 0.0)
-    polygons, offsets = contourpy.contour_generator(gx, gy, fits, fill_type=contourpy.FillType.OuterOffset
-                                                    ).filled(0.5, 1.5)
-    rings = [Polygon(points[offset[0]:]) if len(offset) == 1 else
-             Polygon(points[offset[0]:offset[1]], [points[a:b] for a, b in zip(offset[1:-1], offset[2:], strict=True)])
-             for points, offset in zip(polygons, offsets, strict=True)]
-    area = shapely.union_all([shapely.make_valid(ring) for ring in rings]) if rings else Polygon()
-    return _without_slivers(domain.intersection(area))
+    generator = contourpy.contour_generator(gx, gy, fits, fill_type=contourpy.FillType.OuterOffset)
+    return _without_slivers(domain.intersection(_filled(generator, 0.5, 1.5)))
 
 
 def planning_domain(scene: Scene, spec: RegionPlanSpec) -> shapely.Geometry:
@@ -211,16 +206,18 @@ def _height_bands(camera: Camera, domain: shapely.Geometry, spec: RegionPlanSpec
     levels[0], levels[-1] = 0.0, np.inf  # keep every grid-interpolated sliver at the extremes
     generator = contourpy.contour_generator(gx, gy, np.ma.masked_invalid(np.log(heights)),
                                             fill_type=contourpy.FillType.OuterOffset)
-    pieces = []
-    for lower, upper in zip(levels[:-1], levels[1:], strict=True):
-        polygons, offsets = generator.filled(np.log(max(lower, 1e-300)), np.log(min(upper, 1e300)))
-        rings = [Polygon(points[offset[0]:]) if len(offset) == 1 else
-                 Polygon(points[offset[0]:offset[1]], [points[a:b] for a, b in zip(offset[1:-1], offset[2:],
-                                                                                  strict=True)])
-                 for points, offset in zip(polygons, offsets, strict=True)]
-        band = shapely.union_all([shapely.make_valid(r) for r in rings]) if rings else Polygon()
-        pieces.append(_without_slivers(band.intersection(domain)))
+    pieces = [_without_slivers(_filled(generator, np.log(max(lower, 1e-300)), np.log(min(upper, 1e300)))
+                               .intersection(domain)) for lower, upper in zip(levels[:-1], levels[1:], strict=True)]
     return [p for p in pieces if not p.is_empty]
+
+
+def _filled(generator: contourpy.ContourGenerator, lower: float, upper: float) -> shapely.Geometry:
+    """The ground where the generator's field lies between ``lower`` and ``upper``, as one geometry."""
+    polygons, offsets = generator.filled(lower, upper)
+    rings = [Polygon(points[offset[0]:]) if len(offset) == 1 else
+             Polygon(points[offset[0]:offset[1]], [points[a:b] for a, b in zip(offset[1:-1], offset[2:], strict=True)])
+             for points, offset in zip(polygons, offsets, strict=True)]
+    return shapely.union_all([shapely.make_valid(ring) for ring in rings]) if rings else Polygon()
 
 
 def crop_window(camera: Camera, ground: shapely.Geometry, tallest_m: float, margin_px: int,
