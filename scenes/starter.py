@@ -2,7 +2,8 @@
 handful of measured ground points (``vc-scene init``).
 
 1. **Background**: the image as given, or the per-pixel temporal median of the video or folder of frames
-   (:mod:`vc.scenes.background`).
+   (:mod:`vc.scenes.background`); with a ground truth of boxes (``--mot-world``), the median of each pixel over
+   the frames where no person covers it, so that people who stood still leave no ghost.
 2. **Camera**: a calibration file as given (copied beside the scene), or solved from measured ground points
    (:mod:`vc.calibration.ground_points`) and written as ``camera.yaml`` for review. Points may also come from a
    MOTChallenge-style ground truth that carries each person's ground position (``frame, id, left, top, width,
@@ -39,9 +40,9 @@ from vc.calibration.ground_points import (
 from vc.calibration.readers import read_calibration
 from vc.deploy.frames import IMAGE_SUFFIXES
 from vc.errors import InputError
-from vc.evaluation.mot import read_mot_world
+from vc.evaluation.mot import read_mot_boxes, read_mot_world
 from vc.io import read_image, write_image
-from vc.scenes.background import median_background
+from vc.scenes.background import BackgroundResult, median_background
 from vc.scenes.schema import Priors, RegionPlanSpec
 
 #: The walkable outline is simplified to within this many pixels.
@@ -64,6 +65,7 @@ class StarterScene:
     fit: GroundCalibration | None  # None: a calibration file was given
     walkable_px: list[list[float]]
     ground_points_path: Path | None = None  # points taken from a ground truth, for review
+    background: BackgroundResult | None = None  # None: the image was given
 
     def to_dict(self) -> dict:
         result = {"scene": self.scene_path.name, "background": self.background_path.name,
@@ -73,6 +75,9 @@ class StarterScene:
         if self.fit is not None:
             result["fit"] = {key: value for key, value in self.fit.to_dict().items() if key != "points"}
             result["points"] = len(self.fit.errors_px)
+        if self.background is not None:
+            result["background_median"] = {key: value for key, value in self.background.to_dict().items()
+                                           if key != "frame_indices"}
         return result
 
 
@@ -116,15 +121,17 @@ def walkable_outline(camera: Camera, height_m: float, min_person_px: float) -> l
     return outline.astype(float).tolist()
 
 
-def _background(source: Path, destination: Path, progress: bool) -> tuple[Path | None, np.ndarray]:
-    """The background image written to ``destination``; the video (or frames) it came from, if any."""
+def _background(source: Path, destination: Path, progress: bool, people: Path | None
+                ) -> tuple[BackgroundResult | None, np.ndarray]:
+    """The background image written to ``destination``, and how it was made from a video (or frames), if it was;
+    ``people``: a ground truth whose boxes are left out of the median."""
     if source.is_file() and source.suffix.lower() in IMAGE_SUFFIXES:
         image = read_image(source)
         write_image(destination, image)
         return None, image
-    image = median_background(source, progress=progress).image
-    write_image(destination, image)
-    return source, image
+    result = median_background(source, progress=progress, people=None if people is None else read_mot_boxes(people))
+    write_image(destination, result.image)
+    return result, result.image
 
 
 def make_starter_scene(source: Path, folder: Path, points: Path | None = None, calibration: Path | None = None,
@@ -137,7 +144,7 @@ def make_starter_scene(source: Path, folder: Path, points: Path | None = None, c
     if len(given) != 1:
         raise InputError(None, "--points", "give exactly one of --points, --calibration or --mot-world")
     folder.mkdir(parents=True, exist_ok=True)
-    video, image = _background(Path(source), folder / "background.png", progress)
+    median, image = _background(Path(source), folder / "background.png", progress, mot_world)
     size = (image.shape[1], image.shape[0])
     fit, points_path = None, None
     if calibration is not None:
@@ -172,8 +179,8 @@ def make_starter_scene(source: Path, folder: Path, points: Path | None = None, c
     priors, plan = Priors(), RegionPlanSpec()
     walkable = walkable_outline(camera, priors.height_m[0], plan.min_person_px)
     document = {"name": name or scene_name(folder), "image": "background.png"}
-    if video is not None:
-        document["video"] = os.path.relpath(video.resolve(), folder.resolve())
+    if median is not None:
+        document["video"] = os.path.relpath(Path(source).resolve(), folder.resolve())
     document.update({"calibration": reference,
                      "layout": {"frame": "image", "walkable": [[[round(u, 1), round(v, 1)] for u, v in walkable]],
                                 "obstacles": [], "walls": []},
@@ -184,4 +191,5 @@ def make_starter_scene(source: Path, folder: Path, points: Path | None = None, c
               "# it to where people can walk, and add obstacles (box footprints or cylinder bases, in pixels) and\n"
               "# walls that hide people. Check overlay.png: the figures must stand on the ground at people's size.\n")
     scene_path.write_text(header + yaml.safe_dump(document, sort_keys=False, width=120))
-    return StarterScene(scene_path, folder / "background.png", camera, source_text, fit, walkable, points_path)
+    return StarterScene(scene_path, folder / "background.png", camera, source_text, fit, walkable, points_path,
+                        median)

@@ -67,6 +67,33 @@ def test_background_is_the_temporal_median(tmp_path, capsys):
     assert report["frames_used"] == 40
 
 
+def test_background_leaves_out_the_boxes_of_people_who_stood_still(tmp_path, capsys):
+    """A person who waits in one place for 70 % of the clip is the plain median there (a ghost); with their boxes
+    given, the median is taken over the frames that show the scene, and a place covered in every frame is
+    counted rather than silently kept."""
+    background = np.repeat(np.linspace(60, 180, 96, dtype=np.uint8)[None, :, None], 64, axis=0).repeat(3, axis=2)
+    frames, lines = [], []
+    for i in range(30):
+        frame = background.copy()
+        x = 10 if i < 21 else 10 + 3 * (i - 20)  # waits, then walks off
+        frame[20:50, x:x + 12] = (20, 20, 20)
+        frame[0:8, 88:96] = (250, 250, 250)  # always covered (a box in every frame)
+        frames.append(frame)
+        lines += [f"{i + 1},1,{x},20,12,30,1,0,0,0", f"{i + 1},2,88,0,8,8,1,0,0,0"]
+    video, truth = tmp_path / "wait.avi", tmp_path / "gt.txt"
+    _write_video(video, frames)
+    truth.write_text("\n".join(lines) + "\n")
+    plain, masked = tmp_path / "plain.png", tmp_path / "masked.png"
+    assert main(["background", str(video), "-o", str(plain), "--frames", "30"]) == 0
+    assert main(["background", str(video), "-o", str(masked), "--frames", "30", "--people", str(truth)]) == 0
+    waiting = (slice(22, 48), slice(12, 20))
+    assert np.abs(read_image(plain).astype(int) - background)[waiting].mean() > 40, "the plain median keeps a ghost"
+    assert np.abs(read_image(masked).astype(int) - background)[waiting].max() < 30, "the masked one does not"
+    report = json.loads(masked.with_suffix(".json").read_text())
+    assert report["people_masked"] and 0 < report["never_free_fraction"] < 0.05
+    assert "covered by someone in every frame" in capsys.readouterr().out
+
+
 def test_background_rejects_unreadable_video(tmp_path, capsys):
     video = tmp_path / "broken.avi"
     video.write_bytes(b"not a video at all")

@@ -60,6 +60,31 @@ def test_init_writes_a_scene_that_loads_from_frames_and_points(tmp_path, capsys)
     assert read_image(out / "background.png")[100:140, 40:290].min() >= 60
 
 
+def test_init_from_a_ground_truth_leaves_its_people_out_of_the_background(tmp_path, capsys):
+    """Someone who waits in four of five frames is the plain median; with the ground truth's boxes (the same
+    file the camera is solved from) the background shows the scene behind them."""
+    camera = _camera()
+    feet = camera.project(np.c_[GROUND, np.zeros(len(GROUND))]).uv
+    (tmp_path / "frames").mkdir()
+    background = np.tile(np.linspace(60, 200, SIZE[0], dtype=np.uint8)[None, :, None], (SIZE[1], 1, 3))
+    lines = []
+    for index in range(5):
+        frame = background.copy()
+        if index < 4:
+            frame[170:210, 130:170] = 10
+            lines.append(f"{index + 1},9,130,170,40,40,1,-1,-1,-1")  # no ground position: not a calibration point
+        write_image(tmp_path / "frames" / f"frame{index:03d}.png", frame)
+        lines += [f"{index + 1},{k},{u + 0.5 - 5:.3f},{v + 0.5 - 30:.3f},10,30,1,{x},{y},0"
+                  for k, ((u, v), (x, y)) in enumerate(zip(feet, GROUND, strict=True))]
+    (tmp_path / "gt.txt").write_text("\n".join(lines) + "\n")
+    out = tmp_path / "cam"
+    assert vc_scene(["init", str(tmp_path / "frames"), "-o", str(out), "--mot-world", str(tmp_path / "gt.txt")]) == 0
+    assert "people's boxes left out of the median" in capsys.readouterr().out
+    assert read_image(out / "background.png")[170:210, 130:170].min() >= 60, "the waiting person left a ghost"
+    report = json.loads((out / "init.json").read_text())
+    assert report["background_median"]["people_masked"] and report["points"] == 5 * len(GROUND)
+
+
 def test_init_takes_a_calibration_file_and_refuses_two_sources(tmp_path, capsys):
     from vc.calibration.ground_points import write_opencv_yaml
 

@@ -98,20 +98,28 @@ def cmd_show(args: argparse.Namespace) -> int:
 
 
 def cmd_background(args: argparse.Namespace) -> int:
+    from vc.evaluation.mot import read_mot_boxes
     from vc.scenes.background import median_background
 
     started = time.perf_counter()
-    result = median_background(args.video, max_frames=args.frames, progress=sys.stderr.isatty() or None)
+    people = None if args.people is None else read_mot_boxes(args.people)
+    result = median_background(args.video, max_frames=args.frames, progress=sys.stderr.isatty() or None,
+                               people=people)
     write_image(args.output, result.image)
+    write_json(args.output.with_suffix(".json"), {"video": str(args.video), **result.to_dict(),
+                                                  "seconds": round(time.perf_counter() - started, 2)})
     height, width = result.image.shape[:2]
-    write_json(args.output.with_suffix(".json"), {
-        "video": str(args.video), "method": "per-pixel temporal median", "size": [width, height],
-        "frames_in_video": result.frames_in_video, "frames_used": len(result.frame_indices),
-        "frame_indices": result.frame_indices, "seconds": round(time.perf_counter() - started, 2),
-    })
     print(f"wrote {args.output}: {width}x{height}, median of {len(result.frame_indices)} of "
           f"{result.frames_in_video} frames in {time.perf_counter() - started:.1f} s")
+    _print_background_cover(result)
     return 0
+
+
+def _print_background_cover(result) -> None:
+    """One line on the people masked out of a median background, and what they left covered."""
+    if result.people_masked:
+        print(f"         people's boxes left out of the median; {100 * result.never_free_fraction:.1f} % of the image "
+              "is covered by someone in every frame (plain median there: look for ghosts)")
 
 
 def cmd_synthesize(args: argparse.Namespace) -> int:
@@ -234,6 +242,9 @@ def cmd_init(args: argparse.Namespace) -> int:
         taken = f" (taken to {output / starter.ground_points_path.name})" if starter.ground_points_path else ""
         print(f"         reprojection median {np.median(errors):.2f} px, max {errors.max():.2f} px over {len(errors)} "
               f"points{taken}")
+    if starter.background is not None:
+        print(f"background median of {len(starter.background.frame_indices)} frames")
+        _print_background_cover(starter.background)
     print(f"regions  {len(regions)}: " + ", ".join(f"{r.name} people {r.person_px[0]:.0f}-{r.person_px[1]:.0f} px"
                                                    for r in regions))
     print(f"wrote    {scene_path}, background.png, overlay.png, init.json in {time.perf_counter() - started:.0f} s")
@@ -263,6 +274,8 @@ def build_parser() -> argparse.ArgumentParser:
     background.add_argument("video", type=Path)
     background.add_argument("-o", "--output", type=Path, required=True)
     background.add_argument("--frames", type=int, default=150, help="frames sampled evenly (default 150)")
+    background.add_argument("--people", type=Path, default=None,
+                            help="a MOT-format ground truth whose boxes are left out of the median (no ghosts)")
     background.set_defaults(run=cmd_background)
 
     synthesize = commands.add_parser("synthesize", help="render a background image from the scene's layout")
