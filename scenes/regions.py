@@ -208,7 +208,9 @@ def _height_bands(camera: Camera, domain: shapely.Geometry, spec: RegionPlanSpec
                                             fill_type=contourpy.FillType.OuterOffset)
     pieces = [_without_slivers(_filled(generator, np.log(max(lower, 1e-300)), np.log(min(upper, 1e300)))
                                .intersection(domain)) for lower, upper in zip(levels[:-1], levels[1:], strict=True)]
-    return [p for p in pieces if not p.is_empty]
+    # A domain barely larger than a sliver can fall apart into bands that are each smaller than one: it stays one
+    # region (found by the planning property: a fisheye seeing 0.06 m2 of ground planned none).
+    return [p for p in pieces if not p.is_empty] or [domain]
 
 
 def _filled(generator: contourpy.ContourGenerator, lower: float, upper: float) -> shapely.Geometry:
