@@ -28,6 +28,8 @@ from vc.scenes.regions import Region
 from vc.versions import package_versions
 
 DEFAULT_SHARD_SIZE = 100
+#: Shards by region name.
+Shards = dict[str, list[dataset.Shard]]
 logger = logging.getLogger(__name__)
 
 
@@ -90,8 +92,16 @@ def manifest(request: RenderRequest, counts: dict[str, dict] | None = None) -> d
     }
 
 
-def render_dataset(request: RenderRequest, bodies: BodyModel | None = None, show_progress: bool = True) -> dict:
-    """Render every missing shard of ``request``; returns the run summary (also written as JSON)."""
+def shard_info(request: RenderRequest, region: Region) -> dict:
+    """What every shard of ``region`` records about where it came from (its ``annotations.json`` info)."""
+    return {"description": f"vc-render samples of scene {request.scene.name}, region {region.name}",
+            "scene": request.scene.name, "scene_hash": request.scene.content_hash, "region": region.name,
+            "format_version": dataset.FORMAT_VERSION}
+
+
+def start_dataset(request: RenderRequest) -> tuple[dict, Shards, Shards]:
+    """Check and write the manifest; returns the manifest found before, every planned shard and the missing ones
+    (a damaged shard is removed and counted missing), by region."""
     root = request.output
     existing = dataset.read_manifest(root, missing_ok=True)
     dataset.check_manifest(root, existing, manifest(request))
@@ -99,6 +109,51 @@ def render_dataset(request: RenderRequest, bodies: BodyModel | None = None, show
     shards = {region.name: dataset.plan_shards(region.name, request.samples, request.shard_size)
               for region in request.regions}
     missing = {name: [shard for shard in planned if not _intact(root, shard)] for name, planned in shards.items()}
+    return existing, shards, missing
+
+
+def finish_dataset(request: RenderRequest, existing: dict, shards: Shards) -> dict:
+    """Count what every region's shards hold into the manifest; returns the counts by region."""
+    counts = {name: {"samples": 0, "people": 0} for name in shards}
+    for name, planned in shards.items():
+        for shard in planned:
+            shard_counts = dataset.shard_counts(request.output, shard)
+            counts[name]["samples"] += shard_counts["samples"]
+            counts[name]["people"] += shard_counts["people"]
+    dataset.write_manifest(request.output, manifest(request, counts), existing)
+    return counts
+
+
+def summarise(request: RenderRequest, counts: dict, rendered: dict, skipped: int, seconds: float,
+              timings: dict[str, float]) -> dict:
+    """The run summary (also written as ``render_summary.json``)."""
+    sample_count = sum(entry["samples"] for entry in rendered.values())
+    stage_seconds = {stage: round(value, 3) for stage, value in timings.items()}
+    if sample_count and "shard_total" in timings:
+        per_sample = {"pose", "render", "composite", "labels"}
+        stage_seconds["write_and_other"] = round(timings["shard_total"] - sum(
+            timings.get(stage, 0.0) for stage in per_sample), 3)
+    summary = {
+        "scene": request.scene.name,
+        "output": str(request.output),
+        "rendered_now": rendered,
+        "skipped_shards": skipped,
+        "dataset": counts,
+        "seconds": round(seconds, 2),
+        "samples_per_second": round(sample_count / timings["shard_total"], 2) if sample_count else None,
+        "stage_seconds": stage_seconds,
+        "plan_seconds": round(request.plan.seconds, 2),
+        "lighting": request.plan.lighting.to_dict(),
+        "effects": [decision.to_dict() for decision in request.plan.effects],
+    }
+    write_json(request.output / "render_summary.json", summary)
+    return summary
+
+
+def render_dataset(request: RenderRequest, bodies: BodyModel | None = None, show_progress: bool = True) -> dict:
+    """Render every missing shard of ``request`` in this process; returns the run summary."""
+    root = request.output
+    existing, shards, missing = start_dataset(request)
     to_render = sum(shard.stop - shard.start for planned in missing.values() for shard in planned)
 
     start = time.perf_counter()
@@ -119,10 +174,8 @@ def render_dataset(request: RenderRequest, bodies: BodyModel | None = None, show
                 progress.set_description(f"{region.name} {shard.name}")
 
                 mark = time.perf_counter()
-                counts = dataset.write_shard(root, shard, _samples(synthesizer, shard, timings, progress), {
-                    "description": f"vc-render samples of scene {request.scene.name}, region {region.name}",
-                    "scene": request.scene.name, "scene_hash": request.scene.content_hash, "region": region.name,
-                    "format_version": dataset.FORMAT_VERSION})
+                counts = dataset.write_shard(root, shard, _samples(synthesizer, shard, timings, progress),
+                                             shard_info(request, region))
                 timings["shard_total"] += time.perf_counter() - mark
                 samples += counts["samples"]
                 people += counts["people"]
@@ -130,33 +183,6 @@ def render_dataset(request: RenderRequest, bodies: BodyModel | None = None, show
             rendered[region.name] = {"samples": samples, "people": people,
                                      "seconds": round(time.perf_counter() - region_start, 2)}
     elapsed = time.perf_counter() - start
-
-    counts = {name: {"samples": 0, "people": 0} for name in shards}
-    for name, planned in shards.items():
-        for shard in planned:
-            shard_counts = dataset.shard_counts(root, shard)
-            counts[name]["samples"] += shard_counts["samples"]
-            counts[name]["people"] += shard_counts["people"]
-    dataset.write_manifest(root, manifest(request, counts), existing)
-
-    sample_count = sum(entry["samples"] for entry in rendered.values())
-    stage_seconds = {stage: round(seconds, 3) for stage, seconds in timings.items()}
-    if sample_count:
-        per_sample = {"pose", "render", "composite", "labels"}
-        stage_seconds["write_and_other"] = round(timings["shard_total"] - sum(
-            timings[stage] for stage in per_sample), 3)
-    summary = {
-        "scene": request.scene.name,
-        "output": str(root),
-        "rendered_now": rendered,
-        "skipped_shards": sum(len(shards[name]) - len(missing[name]) for name in shards),
-        "dataset": counts,
-        "seconds": round(elapsed, 2),
-        "samples_per_second": round(sample_count / timings["shard_total"], 2) if sample_count else None,
-        "stage_seconds": stage_seconds,
-        "plan_seconds": round(request.plan.seconds, 2),
-        "lighting": request.plan.lighting.to_dict(),
-        "effects": [decision.to_dict() for decision in request.plan.effects],
-    }
-    write_json(root / "render_summary.json", summary)
-    return summary
+    counts = finish_dataset(request, existing, shards)
+    skipped = sum(len(shards[name]) - len(missing[name]) for name in shards)
+    return summarise(request, counts, rendered, skipped, elapsed, timings)
