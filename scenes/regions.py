@@ -196,7 +196,7 @@ def _height_bands(camera: Camera, domain: shapely.Geometry, spec: RegionPlanSpec
     gx, gy = np.meshgrid(xs, ys)
     feet = np.stack([gx, gy, np.zeros_like(gx)], axis=-1)
     heights = camera.person_pixel_height(feet, spec.reference_height_m)
-    samples = camera.person_pixel_height(sample_ground(domain, step), spec.reference_height_m)
+    samples = _seen_heights(camera, sample_ground(domain, step), spec.reference_height_m)
     samples = samples[np.isfinite(samples)]
     low, high = float(samples.min()), float(samples.max())
     bands = max(1, math.ceil(math.log(high / low) / math.log(spec.max_height_ratio) - 1e-9))
@@ -257,12 +257,20 @@ def _round_to_multiple(value: float, multiple: int) -> int:
     return max(multiple, int(round(value / multiple)) * multiple)
 
 
+def _seen_heights(camera: Camera, feet: np.ndarray, height_m: float) -> np.ndarray:
+    """Pixel heights of people standing at ``feet``, NaN where unseen or where head and feet meet in one pixel
+    (straight below the camera: a top-down view sees a head, not a height; found by the planning property, where
+    a foot sample at the nadir made a zero height and a division by it)."""
+    heights = camera.person_pixel_height(feet, height_m)
+    return np.where(heights > 0, heights, np.nan)
+
+
 def _make_region(name: str, camera: Camera, ground: shapely.Geometry, spec: RegionPlanSpec,
                  height_range: tuple[float, float], step: float) -> Region:
     feet = sample_ground(ground, step)
-    reference = camera.person_pixel_height(feet, spec.reference_height_m)
-    low = camera.person_pixel_height(feet, height_range[0])
-    high = camera.person_pixel_height(feet, height_range[1])
+    reference = _seen_heights(camera, feet, spec.reference_height_m)
+    low = _seen_heights(camera, feet, height_range[0])
+    high = _seen_heights(camera, feet, height_range[1])
     reference_px = (float(np.nanmin(reference)), float(np.nanmax(reference)))
     person_px = (float(np.nanmin(low)), float(np.nanmax(high)))
     crop = crop_window(camera, ground, height_range[1], spec.margin_px, step)

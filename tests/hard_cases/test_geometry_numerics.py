@@ -99,17 +99,23 @@ def unit_scene(tmp_path_factory) -> Scene:
     return load_scene(write_scene(tmp_path_factory.mktemp("scene"), base_scene()))
 
 
-#: Found by the thorough run: a fisheye seeing 0.06 m2 of the walkable area, which fell apart into sliver bands.
+#: Found by the thorough runs: a fisheye seeing 0.06 m2 of the walkable area, which fell apart into sliver bands.
 FISHEYE_ON_A_SLIVER = Camera(WIDTH, HEIGHT, K=np.array([[50.0, 0, 319.5], [0, 50.0, 239.5], [0, 0, 1]]),
                              R=np.array([[0.90718823, -0.42072498, 0.0], [-0.04400961, -0.09489571, -0.99451393],
                                          [0.41841685, 0.90221134, -0.10460421]]),
                              t=np.array([-3.62875294, 0.17603842, 7.88617699]),
                              distortion=BrownConrady(-0.6015, 4.702, -0.000475, -0.007823))
+#: ... and a camera 12 m up looking down with a foot sample exactly below it (a person zero pixels tall).
+TOP_DOWN_OVER_A_SAMPLE = Camera(WIDTH, HEIGHT, K=np.array([[87.0, 0, 319.5], [0, 87.0, 239.5], [0, 0, 1]]),
+                                R=np.array([[1.0, 0.0, 0.0], [0.0, -0.99654576, -0.08304548],
+                                            [0.0, 0.08304548, -0.99654576]]),
+                                t=np.array([0.0, 0.99654576, 11.9585491]), distortion=BrownConrady(0, 0, 0, 0))
 
 
 @PROPERTY
 @given(camera=cameras())
 @example(camera=FISHEYE_ON_A_SLIVER)
+@example(camera=TOP_DOWN_OVER_A_SAMPLE)
 def test_region_planning_at_any_pose_is_finite_or_refused(unit_scene, camera):
     """The unit scene's layout seen from anywhere: regions whose people, crops and inputs are finite and inside
     the image, or one InputError (nothing walkable in view, people too small everywhere), never anything else."""
