@@ -23,12 +23,17 @@ from vc.model.train import RegionResult
 from vc.scenes.loader import load_scene
 from vc.scenes.regions import plan_regions
 from vc.stages.config import CONFIG_FILE, CompileConfig, write_config
+from vc.stages.executors import Executor, InProcess
 from vc.stages.export import ExportResult, export
 from vc.stages.render import RenderJob, prepare_render
 from vc.stages.train import TrainingJob, prepare_training
 
 STATE = "compile.json"
 STAGES = ("check", "render", "train", "export", "self-test")
+#: Scenes compiled at once on a cluster by default: each plans its light on the caller (seconds of CPU), then keeps
+#: its shards (tens) and its regions' training (a few tasks) in flight. A cluster of C CPUs stays busy through
+#: training with about C / 3 scenes in flight.
+SCENES_IN_FLIGHT = 16
 
 
 class Reporter:
@@ -55,9 +60,9 @@ class Compilation:
     """The stages of one compile of ``scene_path`` into ``output`` and their record."""
 
     def __init__(self, scene_path: Path, output: Path, config: CompileConfig, show_progress: bool = True,
-                 reporter: Reporter | None = None) -> None:
+                 reporter: Reporter | None = None, executor: Executor | None = None) -> None:
         self.scene_path, self.output, self.config = Path(scene_path), Path(output), config
-        self.show_progress, self.reporter = show_progress, reporter or Reporter()
+        self.show_progress, self.reporter, self.executor = show_progress, reporter or Reporter(), executor
         self.scene = load_scene(scene_path)
         self.settings = {"scene": str(scene_path), "scene_hash": self.scene.content_hash, **config.to_dict()}
         self.renders, self.run_folder = self.output / "renders", self.output / "run"
@@ -104,13 +109,13 @@ class Compilation:
     def render(self) -> dict:
         job = prepare_render(self.scene_path, self.config.render)
         self.reporter.rendering(job)
-        self.reporter.rendered(job.run(self.renders, self.show_progress), self.renders)
+        self.reporter.rendered(job.run(self.renders, self.show_progress, self.executor), self.renders)
         return {}
 
     def train(self) -> dict:
         job = prepare_training(self.renders, self.config.train)
         self.reporter.training(job)
-        results = job.run(self.run_folder, self.show_progress)
+        results = job.run(self.run_folder, self.show_progress, self.executor)
         self.reporter.trained(results, self.run_folder)
         return {"held_out": {result.region: {key: result.to_dict()[key] for key in ("ap50", "pckh", "mask_iou")}
                              for result in results}}
@@ -127,6 +132,42 @@ class Compilation:
 
 
 def compile_scene(scene_path: Path, output: Path, config: CompileConfig, show_progress: bool = True,
-                  reporter: Reporter | None = None) -> dict:
-    """Compile ``scene_path`` into ``output`` (resuming what is there); returns the compile record."""
-    return Compilation(scene_path, output, config, show_progress, reporter).run()
+                  reporter: Reporter | None = None, executor: Executor | None = None) -> dict:
+    """Compile ``scene_path`` into ``output`` (resuming what is there); returns the compile record. ``executor``
+    runs the render shards and the regions' training (:mod:`vc.stages.executors`; this process by default)."""
+    return Compilation(scene_path, output, config, show_progress, reporter, executor).run()
+
+
+def scene_outputs(scene_paths: list[Path], root: Path) -> dict[Path, Path]:
+    """Each scene's output folder when many compile at once: ``root/<scene name>`` (names must differ)."""
+    outputs: dict[Path, Path] = {}
+    for path in scene_paths:
+        folder = root / load_scene(path).name
+        clash = next((other for other, taken in outputs.items() if taken == folder), None)
+        if clash is not None:
+            raise InputError(path, "name", f"is also the name of {clash}: scenes compiled together need their own "
+                                           "names (each compiles into OUT/<name>)")
+        outputs[Path(path)] = folder
+    return outputs
+
+
+def compile_scenes(scene_paths: list[Path], root: Path, config: CompileConfig, executor: Executor,
+                   on_done: Callable[[Path, dict], None] | None = None, in_flight: int = SCENES_IN_FLIGHT
+                   ) -> dict[Path, dict]:
+    """Compile many scenes into ``root/<scene name>``. On a cluster each scene's stages run in a thread of their
+    own (``in_flight`` at a time), so that the shards and regions of those scenes are in flight together; in this
+    process they compile in turn (one renderer at a time). Returns each scene's compile record; ``on_done`` hears
+    of each as it finishes."""
+    from concurrent.futures import ThreadPoolExecutor, as_completed
+
+    outputs = scene_outputs(scene_paths, root)
+    records: dict[Path, dict] = {}
+    at_once = 1 if isinstance(executor, InProcess) else min(len(outputs), in_flight)
+    with ThreadPoolExecutor(max_workers=at_once) as threads:
+        futures = {threads.submit(compile_scene, path, output, config, False, None, executor): path
+                   for path, output in outputs.items()}
+        for future in as_completed(futures):
+            records[futures[future]] = future.result()
+            if on_done is not None:
+                on_done(futures[future], records[futures[future]])
+    return records

@@ -8,8 +8,11 @@ the rendering (which takes minutes): :func:`prepare_render`, then :meth:`RenderJ
 from __future__ import annotations
 
 import os
+import time
 from dataclasses import dataclass
 from pathlib import Path
+
+from tqdm import tqdm
 
 from vc.errors import InputError
 from vc.io import write_image
@@ -17,6 +20,7 @@ from vc.render.plan import RenderPlan, plan_render
 from vc.scenes.loader import Scene, load_scene
 from vc.scenes.regions import Region, plan_regions
 from vc.stages.config import RenderSettings
+from vc.stages.executors import Executor, InProcess, ShardTask, render_shard
 
 
 @dataclass
@@ -26,15 +30,18 @@ class RenderJob:
     settings: RenderSettings
     plan: RenderPlan  # of every region of the scene, whichever are rendered now
 
-    def run(self, output: Path, show_progress: bool = True) -> dict:
-        """Render the missing shards into ``output`` (finished ones are kept); returns the render summary."""
+    def run(self, output: Path, show_progress: bool = True, executor: Executor | None = None) -> dict:
+        """Render the missing shards into ``output`` (finished ones are kept); returns the render summary.
+        ``executor``: where the shards are rendered (this process, sample by sample, by default)."""
         from vc.render.job import RenderRequest, render_dataset
 
         writable_folder(output)
         request = RenderRequest(scene=self.scene, regions=self.regions, samples=self.settings.samples,
                                 settings=self.settings.synthesis(), plan=self.plan, output=output,
                                 shard_size=self.settings.shard_size)
-        return render_dataset(request, show_progress=show_progress)
+        if executor is None or isinstance(executor, InProcess):
+            return render_dataset(request, show_progress=show_progress)
+        return _render_shards_on(executor, request, show_progress)
 
     def preview(self, output: Path, count: int) -> None:
         """A contact sheet of the first ``count`` samples (the ones the dataset would hold), regions in turn."""
@@ -52,6 +59,29 @@ class RenderJob:
             sample_index = index // len(synthesizers)
             samples.append((f"{synthesizer.region.name} #{sample_index}", synthesizer.sample(sample_index)))
         write_image(output, contact_sheet(samples))
+
+
+def _render_shards_on(executor: Executor, request, show_progress: bool) -> dict:
+    """Every missing shard as one task of ``executor``; the dataset is the one :func:`render_dataset` writes."""
+    from vc.render.job import finish_dataset, start_dataset, summarise
+
+    existing, shards, missing = start_dataset(request)
+    tasks = [ShardTask(request, name, shard) for name, planned in missing.items() for shard in planned]
+    rendered: dict[str, dict] = {}
+    worker_seconds, start = 0.0, time.perf_counter()
+    with tqdm(total=sum(task.shard.stop - task.shard.start for task in tasks), unit="sample",
+              disable=not show_progress, dynamic_ncols=True, desc=f"shards on {executor.name}") as progress:
+        for index, result in executor.map_unordered(render_shard, tasks):
+            entry = rendered.setdefault(tasks[index].region, {"samples": 0, "people": 0, "seconds": 0.0})
+            entry["samples"] += result["samples"]
+            entry["people"] += result["people"]
+            entry["seconds"] = round(entry["seconds"] + result["seconds"], 2)  # worker seconds, summed
+            worker_seconds += result["seconds"]
+            progress.update(result["samples"])
+    counts = finish_dataset(request, existing, shards)
+    skipped = sum(len(shards[name]) - len(missing[name]) for name in shards)
+    return {**summarise(request, counts, rendered, skipped, time.perf_counter() - start,
+                        {"shard_total": worker_seconds}), "executor": executor.name}
 
 
 def prepare_render(scene_path: Path, settings: RenderSettings, region_names: list[str] | None = None) -> RenderJob:

@@ -12,9 +12,10 @@ import torch
 from vc.errors import InputError
 from vc.evaluation.plots import plot_precision_recall
 from vc.io import write_json
-from vc.model.train import RegionResult, RegionTrainer, TrainConfig, select_device
-from vc.render.dataset import open_region, read_manifest
+from vc.model.train import RegionResult, TrainConfig, select_device
+from vc.render.dataset import read_manifest
 from vc.stages.config import TrainSettings
+from vc.stages.executors import Executor, InProcess, RegionTask, train_region
 
 METRICS = "metrics.json"
 
@@ -27,16 +28,17 @@ class TrainingJob:
     config: TrainConfig
     device: torch.device
 
-    def run(self, run: Path, show_progress: bool = True) -> list[RegionResult]:
-        """Train (or resume) every region in turn, evaluate each on its held-out renders, and write
-        ``RUN/metrics.json`` (regions trained into ``run`` before stay in it) and ``RUN/precision_recall.png``."""
-        results = []
-        for name in self.regions:
-            data = open_region(self.dataset, name, self.config.held_out_fraction)
-            trainer = RegionTrainer(data, self.config, run, self.dataset, self.device, self.settings.workers,
-                                    show_progress=show_progress)
-            trainer.train()
-            results.append(trainer.evaluate())
+    def run(self, run: Path, show_progress: bool = True, executor: Executor | None = None) -> list[RegionResult]:
+        """Train (or resume) every region, evaluate each on its held-out renders, and write ``RUN/metrics.json``
+        (regions trained into ``run`` before stay in it) and ``RUN/precision_recall.png``. ``executor``: where
+        the regions train (in turn in this process, with progress bars, by default; as parallel tasks on a
+        cluster, silently)."""
+        executor = executor or InProcess()
+        here = isinstance(executor, InProcess)
+        tasks = [RegionTask(self.dataset, name, self.config, run, self.settings.workers, show_progress and here)
+                 for name in self.regions]
+        by_index = dict(executor.map_unordered(train_region, tasks))
+        results = [by_index[index] for index in range(len(tasks))]
         manifest = read_manifest(self.dataset)
         write_json(run / METRICS, _merged_metrics(run, manifest, self.dataset, self.device.type, results))
         plot_precision_recall({r.region: r.evaluation.evaluation for r in results}, run / "precision_recall.png",

@@ -147,3 +147,53 @@ def test_bring_your_own_camera_from_a_video_and_four_points(compiled, toy_config
                          str(tmp_path / "run"), "--overlay", "--quiet"]) == 0
     summary = json.loads((tmp_path / "run" / "summary.json").read_text())
     assert summary["frames"] == 6 and (tmp_path / "run" / "overlay.mp4").stat().st_size > 0
+
+
+def _processes_running(task_name: str) -> list[int]:
+    """Pids whose title names ``task_name`` (Ray titles a worker ``ray::<function>`` while it runs one)."""
+    pids = []
+    for entry in Path("/proc").iterdir():
+        try:
+            if entry.name.isdigit() and f"ray::{task_name}" in (entry / "cmdline").read_bytes().decode(errors="ignore"):
+                pids.append(int(entry.name))
+        except OSError:
+            continue
+    return pids
+
+
+def test_a_ray_cluster_compiles_the_same_dataset_though_a_worker_dies_mid_shard(compiled, toy_config, tmp_path):
+    """A local Ray cluster of two worker processes compiles the demo at the toy budget while a worker rendering
+    a shard is killed (SIGKILL, once its shard is half-written): Ray re-runs the shard, and the dataset is byte for
+    byte the in-process compile's."""
+    ray = pytest.importorskip("ray", reason="the ray extra is not installed")
+    import os
+    import signal
+    import threading
+    import time
+
+    from vc.stages.compile import compile_scene
+    from vc.stages.executors import RayExecutor
+
+    _, reference = compiled
+    output = tmp_path / "on-ray"
+    executor = RayExecutor(local_cpus=2)
+    try:
+        record: dict = {}
+        worker = threading.Thread(target=lambda: record.update(compile_scene(
+            Path("scenes/demo/scene.yaml"), output, read_config(toy_config), show_progress=False, executor=executor)))
+        worker.start()
+        killed, deadline = [], time.monotonic() + 600
+        while not killed and worker.is_alive() and time.monotonic() < deadline:
+            if any((output / "renders").glob("r*/shard-*.partial")):
+                for pid in _processes_running("render_shard"):
+                    os.kill(pid, signal.SIGKILL)
+                    killed.append(pid)
+            time.sleep(0.02)
+        worker.join(timeout=900)
+    finally:
+        executor.shutdown()
+    assert killed, "no worker was caught mid-shard"
+    assert list(record["stages"]) == ["check", "render", "train", "export", "self-test"]
+    assert _digests(output / "renders", "shard-*/*") == _digests(reference / "renders", "shard-*/*")
+    assert not list((output / "renders").rglob("*.partial"))
+    assert set(record["stages"]["train"]["held_out"]) == {"r0", "r1"}
