@@ -230,7 +230,9 @@ def crop_window(camera: Camera, ground: shapely.Geometry, tallest_m: float, marg
     ring = np.c_[np.cos(angles), np.sin(angles), np.zeros(8)] * PERSON_RADIUS_M
     body = np.concatenate([ring, ring + [0, 0, tallest_m]])
     projected = camera.project((feet[:, None, :] + body[None]).reshape(-1, 3))
-    uv = projected.uv[projected.ok]
+    # Clipped to just outside the image first: the window is clipped to it anyway, and a strong lens can cast a
+    # head to a finite 1e20 px that no integer holds (found by the planning property).
+    uv = np.clip(projected.uv[projected.ok], -1.0, [camera.width, camera.height])
     left, top = np.floor(uv.min(axis=0) - margin_px).astype(int)
     right, bottom = np.ceil(uv.max(axis=0) + margin_px).astype(int)
     left, top = max(left, 0), max(top, 0)

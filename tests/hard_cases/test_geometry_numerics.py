@@ -110,12 +110,18 @@ TOP_DOWN_OVER_A_SAMPLE = Camera(WIDTH, HEIGHT, K=np.array([[87.0, 0, 319.5], [0,
                                 R=np.array([[1.0, 0.0, 0.0], [0.0, -0.99654576, -0.08304548],
                                             [0.0, 0.08304548, -0.99654576]]),
                                 t=np.array([0.0, 0.99654576, 11.9585491]), distortion=BrownConrady(0, 0, 0, 0))
+#: ... and a fisheye 2.5 m up whose Town Centre lens casts heads to finite but enormous pixels (1e20).
+FISHEYE_CASTING_HEADS_FAR = Camera(WIDTH, HEIGHT, K=np.array([[50.0, 0, 319.5], [0, 50.0, 239.5], [0, 0, 1]]),
+                                   R=np.array([[-1.0, 0.0, 0.0], [0.0, 0.8, -0.6], [0.0, -0.6, -0.8]]),
+                                   t=np.array([0.0, 0.0, 2.5]), distortion=BrownConrady(-0.6015, 4.702, -0.000475,
+                                                                                        -0.007823))
 
 
 @PROPERTY
 @given(camera=cameras())
 @example(camera=FISHEYE_ON_A_SLIVER)
 @example(camera=TOP_DOWN_OVER_A_SAMPLE)
+@example(camera=FISHEYE_CASTING_HEADS_FAR)
 def test_region_planning_at_any_pose_is_finite_or_refused(unit_scene, camera):
     """The unit scene's layout seen from anywhere: regions whose people, crops and inputs are finite and inside
     the image, or one InputError (nothing walkable in view, people too small everywhere), never anything else."""
