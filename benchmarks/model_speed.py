@@ -2,6 +2,7 @@
 
     python benchmarks/model_speed.py [--arch fast fast-dw ...] [--crop 256 256] [--batch 16] [--steps 4]
                                      [--inputs 1088x272 704x320] [--out benchmarks/results]
+    python benchmarks/model_speed.py --compute [--threads N] [--out ...]
 
 Training is what ``vc-train`` does per step (forward, the paper's loss with intermediate supervision, backward,
 AdamW) on ``--crop`` windows; inference is one eval-mode forward pass of a whole region input in PyTorch (the
@@ -10,6 +11,10 @@ reference machine), median of ``--steps`` timed repetitions after one warm-up. T
 resolution, dense 17x17 at 128 channels) would take many minutes per step at these sizes: it is timed once, on
 :data:`PAPER_WORKLOAD` for training and on that window for inference. Writes ``model_speed.json``,
 ``model_speed.md`` and ``model_speed.png`` to ``--out``.
+
+``--compute`` times the default network's training step instead under each of the trainer's compute settings
+(``TrainConfig.channels_last``, ``bf16_autocast``), interleaved twice so that a shared machine's drift shows, and
+writes ``model_speed_compute.json`` / ``.md`` with the CPU's name and whether it has AMX-BF16 / AVX512-BF16.
 """
 
 from __future__ import annotations
@@ -31,6 +36,7 @@ from vc.io import write_json  # noqa: E402
 from vc.model.config import DEFAULT_ARCH, PRESETS, NetworkConfig  # noqa: E402
 from vc.model.loss import scene_pose_loss  # noqa: E402
 from vc.model.network import ScenePoseNet  # noqa: E402
+from vc.model.train import TrainConfig, forward, memory_format  # noqa: E402
 
 #: The demo scene's region inputs (scenes/demo) and PETS09's (scenes/pets09_s2l1).
 DEFAULT_INPUTS = ["1088x272", "704x320", "1248x320", "816x304", "528x256"]
@@ -48,22 +54,65 @@ def _median_seconds(run, repetitions: int) -> float:
     return float(np.median(times))
 
 
-def training_images_per_second(config: NetworkConfig, crop: tuple[int, int], batch: int, repetitions: int) -> float:
+def training_images_per_second(config: NetworkConfig, crop: tuple[int, int], batch: int, repetitions: int,
+                               compute: TrainConfig | None = None) -> float:
+    """A training step's images/s; ``compute``: the trainer's memory order and autocast (fp32 NCHW when None)."""
+    compute = compute or TrainConfig(network=config)
     torch.manual_seed(0)
-    net = ScenePoseNet(config).train()
+    net = ScenePoseNet(config).train().to(memory_format=memory_format(compute))
     optimizer = torch.optim.AdamW(net.parameters(), lr=1e-3)
     width, height = crop
     s = config.stem_stride
-    images = torch.rand(batch, 3, height, width)
+    images = torch.rand(batch, 3, height, width).contiguous(memory_format=memory_format(compute))
     targets = torch.rand(batch, config.heatmap_channels, height // s, width // s)
 
     def step() -> None:
-        loss, _ = scene_pose_loss(net(images), targets)
+        loss, _ = scene_pose_loss(forward(net, images, compute), targets)
         optimizer.zero_grad(set_to_none=True)
         loss.backward()
         optimizer.step()
 
     return batch / _median_seconds(step, repetitions)
+
+
+#: The trainer's compute settings --compute compares: name -> (channels_last, bf16_autocast).
+COMPUTE = {"fp32": (False, False), "fp32 channels-last": (True, False), "bf16": (False, True),
+           "bf16 channels-last": (True, True)}
+
+
+def _cpu() -> tuple[str, list[str]]:
+    """The CPU's model name and which bfloat16 instructions it has (from /proc/cpuinfo; Linux)."""
+    try:
+        info = Path("/proc/cpuinfo").read_text()
+    except OSError:
+        return "unknown", []
+    name = next((line.split(":", 1)[1].strip() for line in info.splitlines() if line.startswith("model name")), "?")
+    flags = next((line.split(":", 1)[1].split() for line in info.splitlines() if line.startswith("flags")), [])
+    return name, [flag for flag in ("amx_bf16", "avx512_bf16") if flag in flags]
+
+
+def compare_compute(args: argparse.Namespace) -> None:
+    config, crop = PRESETS[DEFAULT_ARCH], tuple(args.crop)
+    rates: dict[str, list[float]] = {name: [] for name in COMPUTE}
+    for _ in range(2):  # interleaved: drift on a shared machine shows as a spread, not as a bias
+        for name, (channels_last, bf16) in COMPUTE.items():
+            compute = TrainConfig(network=config, channels_last=channels_last, bf16_autocast=bf16)
+            rates[name].append(training_images_per_second(config, crop, args.batch, args.steps, compute))
+            print(f"{name}: {rates[name][-1]:.1f} img/s", flush=True)
+    cpu, bf16_flags = _cpu()
+    base = float(np.mean(rates["fp32"]))
+    rows = [{"compute": name, "images_per_second": [round(rate, 2) for rate in values],
+             "vs_fp32": round(float(np.mean(values)) / base, 2)} for name, values in rates.items()]
+    write_json(args.out / "model_speed_compute.json", {
+        "cpu": cpu, "bf16_instructions": bf16_flags, "threads": torch.get_num_threads(), "torch": torch.__version__,
+        "arch": DEFAULT_ARCH, "crop": list(crop), "batch": args.batch, "results": rows})
+    lines = [f"Training step of the `{DEFAULT_ARCH}` network ({crop[0]}x{crop[1]} windows, batch {args.batch}), "
+             f"{torch.get_num_threads()} thread(s), {cpu} (bf16 instructions: {', '.join(bf16_flags) or 'none'}); "
+             "two interleaved runs each.", "", "| compute | img/s (two runs) | vs fp32 |", "|---|---|---|"]
+    lines += [f"| {row['compute']} | {' / '.join(f'{rate:.1f}' for rate in row['images_per_second'])} | "
+              f"{row['vs_fp32']:.2f}x |" for row in rows]
+    (args.out / "model_speed_compute.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
 
 
 @torch.no_grad()
@@ -106,8 +155,14 @@ def main() -> None:
     parser.add_argument("--steps", type=int, default=4, help="timed repetitions (the paper: 1)")
     parser.add_argument("--inputs", nargs="+", default=DEFAULT_INPUTS, help="region inputs WxH")
     parser.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
+    parser.add_argument("--compute", action="store_true", help="compare the trainer's compute settings instead")
+    parser.add_argument("--threads", type=int, default=os.cpu_count() or 1, help="torch threads (default: all)")
     args = parser.parse_args()
-    torch.set_num_threads(os.cpu_count() or 1)
+    torch.set_num_threads(args.threads)
+    args.out.mkdir(parents=True, exist_ok=True)
+    if args.compute:
+        compare_compute(args)
+        return
     rows = []
     for name in args.arch:
         config = PRESETS[name]

@@ -59,6 +59,10 @@ class TrainSettings(_Section):
     batch_size: int = Field(TrainConfig.batch_size, ge=1, description="windows per step")
     seed: int = Field(TrainConfig.seed, description="seed of the weights and the data order")
     workers: int = Field(1, ge=0, description="data-loading processes (not part of what is trained)")
+    bf16_autocast: bool = Field(TrainConfig.bf16_autocast, description="forward pass in bfloat16 (a CPU with "
+                                                                       "AMX-BF16 trains about twice as fast)")
+    channels_last: bool = Field(TrainConfig.channels_last, description="NHWC activations (oneDNN's preferred "
+                                                                       "order on the CPU)")
 
     def train_config(self) -> TrainConfig:
         """The full training config; a width or SB count the network cannot take is bad input."""
@@ -68,7 +72,8 @@ class TrainSettings(_Section):
             network = replace(network_config(self.arch), **overrides)
         except ValueError as error:
             raise InputError(None, "train.width/train.sb_units", str(error)) from None
-        return TrainConfig(network=network, steps=self.steps, batch_size=self.batch_size, seed=self.seed)
+        return TrainConfig(network=network, steps=self.steps, batch_size=self.batch_size, seed=self.seed,
+                           bf16_autocast=self.bf16_autocast, channels_last=self.channels_last)
 
 
 class ExportSettings(_Section):

@@ -165,7 +165,7 @@ def test_a_ray_cluster_compiles_the_same_dataset_though_a_worker_dies_mid_shard(
     """A local Ray cluster of two worker processes compiles the demo at the toy budget while a worker rendering
     a shard is killed (SIGKILL, once its shard is half-written): Ray re-runs the shard, and the dataset is byte for
     byte the in-process compile's."""
-    ray = pytest.importorskip("ray", reason="the ray extra is not installed")
+    pytest.importorskip("ray", reason="the ray extra is not installed")
     import os
     import signal
     import threading

@@ -25,6 +25,7 @@ from vc.model.train import (
     RegionTrainer,
     TrainConfig,
     checkpoint_path,
+    forward,
     learning_rate_factor,
     load_checkpoint,
 )
@@ -130,6 +131,29 @@ def test_resumed_training_ends_with_identical_weights(flat_dataset, tmp_path):
     for name, tensor in straight.net.state_dict().items():
         assert torch.equal(tensor, resumed.net.state_dict()[name]), name
     assert straight.history == resumed.history
+
+
+def test_bf16_autocast_in_channels_last_trains_fp32_weights_and_resumes_identically(flat_dataset, tmp_path):
+    """The fast compute settings keep what the trainer promises: fp32 weights, outputs close to the fp32
+    forward pass, and a resumed run ending on the same weights as a straight one."""
+    config = _config(bf16_autocast=True, channels_last=True)
+    straight = RegionTrainer(open_region(flat_dataset, "r0"), config, tmp_path / "straight", flat_dataset,
+                             workers=0, show_progress=False)
+    straight.train()
+    assert all(tensor.dtype == torch.float32 and torch.isfinite(tensor).all()
+               for tensor in straight.net.state_dict().values() if tensor.is_floating_point())
+    interrupted = RegionTrainer(open_region(flat_dataset, "r0"), config, tmp_path / "resumed", flat_dataset,
+                                workers=0, show_progress=False)
+    interrupted.train(until=2)
+    resumed = RegionTrainer(open_region(flat_dataset, "r0"), config, tmp_path / "resumed", flat_dataset,
+                            workers=0, show_progress=False)
+    resumed.train()
+    for name, tensor in straight.net.state_dict().items():
+        assert torch.equal(tensor, resumed.net.state_dict()[name]), name
+    images = torch.rand(2, 3, 64, 64).contiguous(memory_format=torch.channels_last)
+    fast = forward(straight.net.eval(), images, config)["heatmaps"]
+    exact = forward(straight.net, images, _config())["heatmaps"]
+    assert fast.dtype == torch.float32 and (fast - exact).abs().max() < 0.05 * exact.abs().max() + 1e-3
 
 
 def test_resuming_with_other_settings_is_refused(flat_dataset, tmp_path):
