@@ -91,27 +91,28 @@ def _cpu() -> tuple[str, list[str]]:
     return name, [flag for flag in ("amx_bf16", "avx512_bf16") if flag in flags]
 
 
-def compare_compute(args: argparse.Namespace) -> None:
-    config, crop = PRESETS[DEFAULT_ARCH], tuple(args.crop)
+def compare_compute(crop: tuple[int, int], batch: int, steps: int, out: Path) -> None:
+    """Time the default network's training step under each compute setting and write model_speed_compute.*."""
+    config = PRESETS[DEFAULT_ARCH]
     rates: dict[str, list[float]] = {name: [] for name in COMPUTE}
     for _ in range(2):  # interleaved: drift on a shared machine shows as a spread, not as a bias
         for name, (channels_last, bf16) in COMPUTE.items():
             compute = TrainConfig(network=config, channels_last=channels_last, bf16_autocast=bf16)
-            rates[name].append(training_images_per_second(config, crop, args.batch, args.steps, compute))
+            rates[name].append(training_images_per_second(config, crop, batch, steps, compute))
             print(f"{name}: {rates[name][-1]:.1f} img/s", flush=True)
     cpu, bf16_flags = _cpu()
     base = float(np.mean(rates["fp32"]))
     rows = [{"compute": name, "images_per_second": [round(rate, 2) for rate in values],
              "vs_fp32": round(float(np.mean(values)) / base, 2)} for name, values in rates.items()]
-    write_json(args.out / "model_speed_compute.json", {
+    write_json(out / "model_speed_compute.json", {
         "cpu": cpu, "bf16_instructions": bf16_flags, "threads": torch.get_num_threads(), "torch": torch.__version__,
-        "arch": DEFAULT_ARCH, "crop": list(crop), "batch": args.batch, "results": rows})
-    lines = [f"Training step of the `{DEFAULT_ARCH}` network ({crop[0]}x{crop[1]} windows, batch {args.batch}), "
+        "arch": DEFAULT_ARCH, "crop": list(crop), "batch": batch, "results": rows})
+    lines = [f"Training step of the `{DEFAULT_ARCH}` network ({crop[0]}x{crop[1]} windows, batch {batch}), "
              f"{torch.get_num_threads()} thread(s), {cpu} (bf16 instructions: {', '.join(bf16_flags) or 'none'}); "
              "two interleaved runs each.", "", "| compute | img/s (two runs) | vs fp32 |", "|---|---|---|"]
     lines += [f"| {row['compute']} | {' / '.join(f'{rate:.1f}' for rate in row['images_per_second'])} | "
               f"{row['vs_fp32']:.2f}x |" for row in rows]
-    (args.out / "model_speed_compute.md").write_text("\n".join(lines) + "\n")
+    (out / "model_speed_compute.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
 
 
@@ -161,7 +162,7 @@ def main() -> None:
     torch.set_num_threads(args.threads)
     args.out.mkdir(parents=True, exist_ok=True)
     if args.compute:
-        compare_compute(args)
+        compare_compute(tuple(args.crop), args.batch, args.steps, args.out)
         return
     rows = []
     for name in args.arch:

@@ -19,10 +19,9 @@ def test_the_timed_training_step_runs_on_the_networks_own_heat_map_layout(arch):
 
 
 def test_compute_settings_are_timed_and_reported(tmp_path):
-    import argparse
     import json
 
-    model_speed.compare_compute(argparse.Namespace(crop=[64, 64], batch=2, steps=1, out=tmp_path))
+    model_speed.compare_compute((64, 64), batch=2, steps=1, out=tmp_path)
     report = json.loads((tmp_path / "model_speed_compute.json").read_text())
     assert [row["compute"] for row in report["results"]] == list(model_speed.COMPUTE)
     assert all(rate > 0 for row in report["results"] for rate in row["images_per_second"])
