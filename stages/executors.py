@@ -20,6 +20,7 @@ node mounts at the same path (NFS, a shared volume), as a render farm's is.
 
 from __future__ import annotations
 
+import json
 import os
 import time
 from collections.abc import Callable, Iterator, Sequence
@@ -122,16 +123,33 @@ def _bodies():
     return BodyModel()
 
 
+#: The region synthesizers a worker process built, by what decides them: a worker that renders many shards of one
+#: region (the usual case) builds its renderer and reads the background once, not once a shard.
+_synthesizers: dict[tuple, Any] = {}
+#: Synthesizers a worker keeps (a few regions of a few scenes in flight).
+KEPT_SYNTHESIZERS = 8
+
+
+def _synthesizer(request, region):
+    from vc.render.synthesis import RegionSynthesizer
+
+    key = (request.scene.content_hash, region.name, request.settings,
+           json.dumps(request.plan.to_dict(), sort_keys=True, default=str))
+    if key not in _synthesizers:
+        if len(_synthesizers) >= KEPT_SYNTHESIZERS:
+            _synthesizers.pop(next(iter(_synthesizers)))
+        _synthesizers[key] = RegionSynthesizer(request.scene, region, _bodies(), request.settings, request.plan)
+    return _synthesizers[key]
+
+
 def render_shard(task: ShardTask) -> dict:
     """Render one shard into the dataset (atomically); returns its counts and the seconds it took."""
     from vc.render import dataset
     from vc.render.job import shard_info
-    from vc.render.synthesis import RegionSynthesizer
 
     start = time.perf_counter()
     region = next(region for region in task.request.regions if region.name == task.region)
-    synthesizer = RegionSynthesizer(task.request.scene, region, _bodies(), task.request.settings,
-                                    task.request.plan)
+    synthesizer = _synthesizer(task.request, region)
     samples = (synthesizer.sample(index) for index in range(task.shard.start, task.shard.stop))
     counts = dataset.write_shard(task.request.output, task.shard, samples, shard_info(task.request, region))
     return {**counts, "seconds": time.perf_counter() - start}
