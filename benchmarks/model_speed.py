@@ -32,6 +32,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import torch  # noqa: E402
 
+from vc.cores import usable_cores  # noqa: E402
 from vc.io import write_json  # noqa: E402
 from vc.model.config import DEFAULT_ARCH, PRESETS, NetworkConfig  # noqa: E402
 from vc.model.loss import scene_pose_loss  # noqa: E402
@@ -157,7 +158,7 @@ def main() -> None:
     parser.add_argument("--inputs", nargs="+", default=DEFAULT_INPUTS, help="region inputs WxH")
     parser.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
     parser.add_argument("--compute", action="store_true", help="compare the trainer's compute settings instead")
-    parser.add_argument("--threads", type=int, default=os.cpu_count() or 1, help="torch threads (default: all)")
+    parser.add_argument("--threads", type=int, default=usable_cores(), help="torch threads (default: all usable)")
     args = parser.parse_args()
     torch.set_num_threads(args.threads)
     args.out.mkdir(parents=True, exist_ok=True)

@@ -8,7 +8,6 @@ twice — and map them to frame pixels.
 
 from __future__ import annotations
 
-import os
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
@@ -16,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import onnxruntime as ort
 
+from vc.cores import usable_cores
 from vc.deploy.bundle import Bundle, RegionEntry, load_bundle
 from vc.deploy.decode import DecodeConfig, DecodedPerson, decode
 from vc.errors import InputError
@@ -148,10 +148,11 @@ class RegionRunner:
 class Runtime:
     """A loaded bundle: ``runtime(frame)`` -> the people in an (H, W, 3) uint8 RGB frame.
 
-    ``threads``: the cores to use (default: all). With ``parallel_regions`` the regions run at once in a pool of
-    that many threads, one intra-op thread each; otherwise one after the other, each with all ``threads``. The
-    default (None) runs regions in parallel when there are several: a region's network alone does not keep two
-    cores busy (PETS09, int8, 2 cores: 21 ms per frame in parallel, 28 ms in turn; benchmarks/runtime_latency.py).
+    ``threads``: the cores to use (default: all this process may use, :func:`vc.cores.usable_cores`). With
+    ``parallel_regions`` the regions run at once in a pool of that many threads, one intra-op thread each;
+    otherwise one after the other, each with all ``threads``. The default (None) runs regions in parallel
+    when there are several: a region's network alone does not keep two cores busy (PETS09, int8, 2 cores: 21 ms
+    per frame in parallel, 28 ms in turn; benchmarks/runtime_latency.py).
     ``public_key``: a PEM Ed25519 public key (file or bytes); the bundle then loads only if its manifest is signed
     by it (:mod:`vc.deploy.signing`).
     """
@@ -161,7 +162,7 @@ class Runtime:
         if isinstance(bundle, Bundle) and public_key is not None:
             raise ValueError("a public key checks a bundle as it is loaded: give the bundle's path")
         self.bundle = bundle if isinstance(bundle, Bundle) else load_bundle(bundle, public_key)
-        cores = os.cpu_count() or 1
+        cores = usable_cores()
         if parallel_regions is None:
             parallel_regions = len(self.bundle.regions) > 1 and (threads or cores) > 1
         per_region = 1 if parallel_regions else (threads or cores)

@@ -28,6 +28,7 @@ from torch.utils.data import DataLoader
 from tqdm import tqdm
 
 from vc.calibration.camera import camera_from_dict
+from vc.cores import usable_cores
 from vc.deploy.decode import DecodeConfig
 from vc.errors import InputError, StageError
 from vc.evaluation.plots import plot_precision_recall, plot_training_curve
@@ -119,10 +120,10 @@ def read_train_config(data: dict, path: Path) -> TrainConfig:
 
 
 def select_device() -> torch.device:
-    """CUDA when torch sees a GPU; otherwise the CPU with one thread per core."""
+    """CUDA when torch sees a GPU; otherwise the CPU with one thread per core this process may use."""
     if torch.cuda.is_available():
         return torch.device("cuda")
-    torch.set_num_threads(os.cpu_count() or 1)
+    torch.set_num_threads(usable_cores())
     return torch.device("cpu")
 
 

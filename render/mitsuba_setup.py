@@ -13,6 +13,8 @@ import os
 from pathlib import Path
 from types import ModuleType
 
+from vc.cores import usable_cores
+
 #: Where Debian/Ubuntu's ``libllvm19`` package puts the shared library Dr.Jit's CPU backend needs.
 LIBLLVM_19 = Path("/usr/lib/x86_64-linux-gnu/libLLVM-19.so")
 GPU_VARIANT = "cuda_ad_rgb"
@@ -32,4 +34,6 @@ def mitsuba() -> ModuleType:
     import mitsuba as mi
 
     mi.set_variant(GPU_VARIANT if dr.has_backend(dr.JitBackend.CUDA) else CPU_VARIANT)
+    if mi.variant() == CPU_VARIANT:
+        dr.set_thread_count(usable_cores())  # Dr.Jit's pool would take every core of the machine
     return mi

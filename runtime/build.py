@@ -22,6 +22,7 @@ REPOSITORY = Path(__file__).resolve().parent.parent
 #: Repository file -> its place in the wheel.
 RUNTIME_MODULES = {
     "vc/__init__.py": "vc/__init__.py",
+    "vc/cores.py": "vc/cores.py",
     "vc/errors.py": "vc/errors.py",
     "vc/keypoints.py": "vc/keypoints.py",
     "deploy/__init__.py": "vc/deploy/__init__.py",
