@@ -19,8 +19,7 @@ steps, per-region models, fp32) with one knob changed (:data:`KNOBS`):
   ``lighting:`` block, no camera effects: every point measured before photometric matching), the light estimated
   from the background alone, or matched (light and every camera effect the scene calls for: the standard compile),
   and matched less one camera effect at a time (``benchmarks/effects_ablation.py`` runs this knob and adds each
-  variant's render cost per sample); matched also with training seeds 1 and 2, so that the report sets matched
-  against off (the ``seed`` knob's points) over three seeds each;
+  variant's render cost per sample);
 - ``groups``: people placed alone (the standard compile) or with the scene's ``priors.group_rate`` at 0.3 (a
   person starts a group of 2-4 walking abreast or in file; ``render/placement.py``), each with training seeds
   0, 1 and 2 (renders shared).
@@ -136,9 +135,7 @@ KNOBS: dict[str, dict[str, Point]] = {
     "regions": {"per-region": BASE, "single (SPN-G)": replace(BASE, single_region=True)},
     "precision": {v: replace(BASE, precision=v) for v in ("fp32", "fp16", "int8")},
     "seed": {str(v): replace(BASE, train_seed=v) for v in (0, 1, 2)},
-    "photometry": {**{v: BASE if v == "matched" else replace(BASE, photometry=v) for v in PHOTOMETRY},
-                   # the standard compile's other training seeds (renders shared): "off" has its own under ``seed``
-                   **{f"matched, seed {seed}": replace(BASE, train_seed=seed) for seed in (1, 2)}},
+    "photometry": {v: BASE if v == "matched" else replace(BASE, photometry=v) for v in PHOTOMETRY},
     "groups": {"alone": BASE, **{f"rate 0.3, seed {seed}": replace(BASE, group_rate=0.3, train_seed=seed)
                                  for seed in (0, 1, 2)}},
 }
@@ -520,18 +517,6 @@ def _seed_spread(results: dict[str, list[dict]], accuracy_name: str) -> tuple[fl
     return (min(measured), max(measured)) if len(measured) > 1 else None
 
 
-def photometry_over_seeds(results: dict[str, list[dict]], accuracy_name: str) -> dict[str, list[float]]:
-    """Per photometry, the accuracy of the standard compile under each training seed measured (each compile once):
-    whether matching the renders to the camera moves accuracy is told against the seeds' own spread."""
-    by_photometry: dict[str, list[float]] = {}
-    for point in distinct_compiles(results):
-        photometry, seed = _photometry(point), point["point"].get("train_seed", 0)
-        standard_but = replace(BASE, photometry=photometry, train_seed=seed)
-        if _identity(point) == standard_but.bundle_key() and accuracy_name in point:
-            by_photometry.setdefault(photometry, []).append(point[accuracy_name])
-    return by_photometry
-
-
 def merge_coinciding(labels: list[tuple[str, float, float]]) -> list[tuple[str, float, float]]:
     """One label per spot: the texts of points within 2 % of the plot's spans of an earlier one join its label (the
     standard point and fp16 share accuracy and time, and three names around one marker don't say which is which)."""
@@ -590,13 +575,6 @@ def _overview_lines(results: dict[str, list[dict]]) -> list[str]:
     if spread:
         lines.append(f"Training seeds alone span {accuracy_label} {spread[0]:.3f}–{spread[1]:.3f}: a difference "
                      f"smaller than {spread[1] - spread[0]:.3f} is within the noise.")
-    over_seeds = photometry_over_seeds(results, accuracy_name)
-    if len(over_seeds) > 1:
-        listed = "; ".join(f"{name} {np.mean(values):.3f} (" + (f"{min(values):.3f}–{max(values):.3f}, "
-                                                                 if len(values) > 1 else "")
-                           + f"{len(values)} seed{'s' if len(values) > 1 else ''})"
-                           for name, values in over_seeds.items())
-        lines.append(f"The standard compile's {accuracy_label} by photometry, mean over training seeds: {listed}.")
     return lines
 
 

@@ -146,31 +146,6 @@ def test_the_overview_counts_each_compile_once_and_names_the_front(tmp_path):
     assert (tmp_path / "accuracy_vs_time_overview.png").stat().st_size > 10_000
 
 
-def test_photometry_is_set_against_the_seed_spread_with_each_compile_counted_once(tmp_path):
-    """Matched against off, each the mean over training seeds: the "off" seeds are the ``seed`` knob's points stored
-    before photometric matching (no photometry field), the matched seed 0 is the standard compile under both knobs,
-    the light-only variant is a photometry of its own, and a point that changes anything else (groups) is none."""
-    def stored_before_matching(value: str, ap50: float) -> dict:
-        point = _as_compiled("seed", value, ap50, 1.0)
-        return point | {"point": {k: v for k, v in point["point"].items() if k != "photometry"}}
-
-    results = {
-        "seed": [stored_before_matching("0", 0.870), stored_before_matching("1", 0.883),
-                 stored_before_matching("2", 0.850)],
-        "photometry": [_as_compiled("photometry", "light", 0.95, 1.0),
-                       _as_compiled("photometry", "matched", 0.891, 1.0),
-                       _as_compiled("photometry", "matched, seed 1", 0.901, 1.0)],
-        "groups": [_as_compiled("groups", "alone", 0.891, 1.0), _as_compiled("groups", "rate 0.3, seed 1", 0.99, 1.0)],
-    }
-    over_seeds = sweep_module.photometry_over_seeds(results, "real_ap50")
-    assert over_seeds == {"off": [0.870, 0.883, 0.850], "light": [0.95], "matched": [0.891, 0.901]}
-    sweep_module._report(results, tmp_path)
-    table = (tmp_path / "accuracy_vs_time.md").read_text()
-    assert ("by photometry, mean over training seeds: off 0.868 (0.850–0.883, 3 seeds); light 0.950 (1 seed); "
-            "matched 0.896 (0.891–0.901, 2 seeds).") in table
-    assert "no optical_blur, matched, seed 2;" in table.split("Not measured yet:")[1]
-
-
 def test_a_value_the_knob_does_not_have_is_refused(monkeypatch, capsys, tmp_path):
     monkeypatch.setattr(sys, "argv", ["accuracy_vs_time.py", "--scene", str(REPO / "scenes/demo/scene.yaml"),
                                       "--knob", "width", "--value", "48", "--work", str(tmp_path)])
