@@ -55,6 +55,7 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, replace
+from functools import cached_property
 from pathlib import Path
 
 import matplotlib
@@ -223,11 +224,20 @@ class Sweep:
             temporary.write_text(yaml.safe_dump(document, sort_keys=False))
         return path
 
-    def photometry_overrides(self, photometry: str) -> dict:
-        """Scene fields that turn the matched renders into ``photometry``'s (see :data:`PHOTOMETRY`)."""
+    @cached_property
+    def planned_effects(self) -> list[str]:
+        """The effects the scene's own plan turns on: the matched renders'."""
         from vc.render.plan import plan_render
         from vc.scenes.loader import load_scene
         from vc.scenes.regions import plan_regions
+
+        scene = load_scene(self.scene_yaml)
+        return [decision.name for decision in plan_render(scene, plan_regions(scene), time_costs=False).effects
+                if decision.on]
+
+    def photometry_overrides(self, photometry: str) -> dict:
+        """Scene fields that turn the matched renders into ``photometry``'s (see :data:`PHOTOMETRY`)."""
+        from vc.scenes.loader import load_scene
         from vc.scenes.schema import Lighting
 
         scene = load_scene(self.scene_yaml)
@@ -237,10 +247,17 @@ class Sweep:
             return {"lighting": Lighting().model_dump(), "effects": geometric}
         if photometry == "light":
             return {"effects": geometric}
-        left_out = photometry.removeprefix("no ")
-        plan = plan_render(scene, plan_regions(scene), time_costs=False)
-        return {"effects": [decision.name for decision in plan.effects
-                            if decision.on and decision.name != left_out]}
+        return {"effects": [name for name in self.planned_effects if name != photometry.removeprefix("no ")]}
+
+    def same_photometry_as(self, photometry: str) -> str:
+        """The first photometry value (in :data:`PHOTOMETRY` order) whose renders are the same as ``photometry``'s:
+        matched less an effect the scene does not call for is matched, and matched less the only camera effect it
+        calls for is the estimated light alone. Such a value is one compile, measured once."""
+        def renders(value: str) -> tuple:
+            overrides = {"effects": self.planned_effects} if value == "matched" else self.photometry_overrides(value)
+            return frozenset(overrides["effects"]), json.dumps(overrides.get("lighting"), sort_keys=True)
+
+        return next(value for value in PHOTOMETRY if renders(value) == renders(photometry))
 
     def compile(self, point: Point) -> tuple[dict[str, Path], dict[str, float]]:
         from vc.stages.config import ExportSettings, RenderSettings, TrainSettings
@@ -283,6 +300,10 @@ class Sweep:
             if self.paired and "runtime_vs_base" not in result:  # measured without the paired timing: add it now
                 result.update(self.paired_runtime(self.work / "bundles" / point.bundle_key()))
                 write_json(path, result)
+            return result
+        if knob == "photometry" and (same := self.same_photometry_as(value)) != value:
+            result = self.measure(knob, same, KNOBS[knob][same]) | {"knob": knob, "value": value, "same_as": same}
+            write_json(path, result)
             return result
         # the same compile measured under another knob (the standard one is every knob's reference value) is this
         # measurement: the evaluation is deterministic, so it is not run again
@@ -467,7 +488,7 @@ def _photometry(point: dict) -> str:
     return point["point"].get("photometry", "off")
 
 
-def _identity(point: dict) -> str:
+def identity(point: dict) -> str:
     """The compile a measured point stands for (the standard point is measured under several knobs)."""
     return Point(**{**asdict(BASE), **point["point"], "heatmap_channels": _layout(point),
                     "photometry": _photometry(point)}).bundle_key()
@@ -482,9 +503,9 @@ def distinct_compiles(results: dict[str, list[dict]]) -> list[dict]:
         for point in points:
             if _layout(point) != HEATMAP_CHANNELS:
                 continue
-            identity = _identity(point)
-            name = "standard" if identity == standard else f"{knob} {point['value']}"
-            distinct.setdefault(identity, point | {"name": name})
+            compiled = identity(point)
+            name = "standard" if compiled == standard else f"{knob} {point['value']}"
+            distinct.setdefault(compiled, point | {"name": name})
     return list(distinct.values())
 
 

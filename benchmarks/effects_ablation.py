@@ -7,6 +7,9 @@ Runs the ``photometry`` knob of the accuracy-vs-time sweep (``benchmarks/accurac
 joins): the standard compile with photometric matching off (the default sun, no camera effects), with the light
 estimated from the background alone, matched (the standard compile), and matched less each camera effect. Each
 point is a full standard compile (about an hour on 2 cores), kept in ``--work`` and resumed like every sweep point.
+A value that renders what another does is that compile, measured once: matched less an effect the scene does not
+call for is matched, and matched less the scene's only camera effect is the light alone. "off" is the compile every
+other knob's points were measured with before photometric matching; the report takes it from there.
 
 Beside the sweep's numbers (real and synthetic AP50, PCKh, compile minutes, runtime) it writes what each variant
 costs to render: ms per sample over the whole render, and the plan's measured cost of each effect that was on,
@@ -53,17 +56,35 @@ def report(rows: list[dict], out: Path) -> None:
         render = f"{row['render_ms_per_sample']:.0f}" if "render_ms_per_sample" in row else "—"
         effects = ", ".join(f"{name} ({ms:.1f})" if ms is not None else name
                             for name, ms in row.get("effects_on", {}).items()) or "—"
-        lines.append(f"| {row['value']} | {sweep.PHOTOMETRY[row['value']]} | {real} | {row['synthetic_ap50']:.3f} | "
+        what = sweep.PHOTOMETRY[row["value"]]
+        if "same_as" in row:
+            what += f": the same renders as {row['same_as']} (this scene calls for no more)"
+        elif "measured_as" in row:
+            what += f" (the sweep's point {row['measured_as']}: the same compile)"
+        lines.append(f"| {row['value']} | {what} | {real} | {row['synthetic_ap50']:.3f} | "
                      f"{row['synthetic_pckh']:.3f} | {render} | {effects} | {row['compile_minutes']:.1f} |")
     with atomic_path(out / "effects_ablation.md") as temporary:
         temporary.write_text("\n".join(lines) + "\n")
 
 
+def measured_elsewhere(results: dict[str, list[dict]], value: str) -> dict | None:
+    """A photometry value's compile measured under another knob (renders "off" are every point measured before
+    photometric matching), named by where it was measured."""
+    wanted = sweep.KNOBS["photometry"][value].bundle_key()
+    found = next((point for point in sweep.distinct_compiles(results) if sweep.identity(point) == wanted), None)
+    return None if found is None else found | {"value": value, "measured_as": found["name"]}
+
+
 def main(argv: list[str] | None = None) -> None:
     args = sweep.run(sweep.build_parser(knob="photometry"), argv)
-    measured = json.loads((args.out / "accuracy_vs_time.json").read_text()).get("photometry", [])
-    rows = [{**point, **render_costs(args.work, sweep.KNOBS["photometry"][point["value"]])} for point in measured
-            if point["value"] in sweep.KNOBS["photometry"]]
+    results = json.loads((args.out / "accuracy_vs_time.json").read_text())
+    by_value = {point["value"]: point for point in results.get("photometry", [])}
+    rows = []
+    for value in sweep.PHOTOMETRY:
+        point = by_value.get(value) or measured_elsewhere(results, value)
+        if point is not None:
+            rendered_as = sweep.KNOBS["photometry"][point.get("same_as", value)]
+            rows.append({**point, **render_costs(args.work, rendered_as)})
     report(rows, args.out)
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import itertools
 import json
 import sys
@@ -258,6 +259,28 @@ def test_a_sweep_keeps_what_another_sweep_reported_while_it_measured(tmp_path, m
     assert [p["value"] for p in reported["seed"]] == ["1"] and [p["value"] for p in reported["input"]] == ["40 px"]
 
 
+def test_leaving_out_an_effect_the_scene_does_not_call_for_is_the_compile_it_equals(tmp_path, monkeypatch):
+    """A scene whose only camera effect is sensor noise: "no jpeg" renders what "matched" does and "no sensor_noise"
+    what "light" does; each pair is one compile, measured once and reported under both names."""
+    sweep = _sweep(tmp_path, paired_runtime=False)
+    geometric = sweep.photometry_overrides("light")["effects"]
+    sweep.__dict__["planned_effects"] = [*geometric, "sensor_noise"]
+    assert {value: sweep.same_photometry_as(value) for value in sweep_module.PHOTOMETRY} == {
+        "off": "off", "light": "light", "matched": "matched", "no sensor_noise": "light", "no jpeg": "matched",
+        "no optical_blur": "matched"}
+
+    light = KNOBS["photometry"]["light"]
+    measured = {"knob": "photometry", "value": "light", "synthetic_ap50": 0.96}
+    earlier = tmp_path / "points" / "photometry" / f"light-{light.bundle_key()}.json"
+    earlier.parent.mkdir(parents=True)
+    earlier.write_text(json.dumps(measured))
+    monkeypatch.setattr(sweep, "compile", lambda point: pytest.fail("compiled again"))
+    result = sweep.measure("photometry", "no sensor_noise", KNOBS["photometry"]["no sensor_noise"])
+    assert result == measured | {"value": "no sensor_noise", "same_as": "light"}
+    with pytest.raises(pytest.fail.Exception):  # a value that renders something else is compiled
+        sweep.measure("photometry", "off", KNOBS["photometry"]["off"])
+
+
 def test_photometry_off_keeps_the_keys_of_the_renders_made_before_it():
     """Every point measured before photometric matching was rendered "off": its keys must stay what they were,
     and the matched standard compile must get new ones."""
@@ -290,6 +313,28 @@ def test_the_effects_ablation_reports_what_each_variant_costs(tmp_path):
     assert table[2] == ("| off | default sun, no camera effects | 0.870 | 0.960 | 0.680 | 72 | shadows | 54.0 |")
     assert "sensor_noise (5.9)" in table[3] and "| — |" in table[3]
     assert json.loads((tmp_path / "effects_ablation.json").read_text())[1]["value"] == "matched"
+
+
+def test_the_effects_ablation_takes_off_from_the_sweep_and_names_a_value_that_renders_as_another(tmp_path, monkeypatch):
+    """"off" is the compile every knob was measured with before photometric matching (stored without the field):
+    the ablation reports it from there rather than compiling it again; "no sensor_noise" renders as "light"."""
+    ablation = load_benchmark("effects_ablation")
+    off = _as_compiled("seed", "0", 0.870, 1.0)
+    off["point"] = {key: value for key, value in off["point"].items() if key != "photometry"}
+    light = _as_compiled("photometry", "light", 0.880, 1.0)
+    results = {"seed": [off], "photometry": [light, light | {"value": "no sensor_noise", "same_as": "light"},
+                                             _as_compiled("photometry", "matched", 0.891, 1.0)]}
+    out = tmp_path / "results"
+    out.mkdir()
+    (out / "accuracy_vs_time.json").write_text(json.dumps(results))
+    monkeypatch.setattr(ablation.sweep, "run", lambda parser, argv: argparse.Namespace(out=out, work=tmp_path))
+    ablation.main([])
+    rows = json.loads((out / "effects_ablation.json").read_text())
+    assert [(row["value"], row["real_ap50"]) for row in rows] == [("off", 0.870), ("light", 0.880),
+                                                                  ("matched", 0.891), ("no sensor_noise", 0.880)]
+    table = (out / "effects_ablation.md").read_text()
+    assert "default sun, no camera effects (the sweep's point seed 0: the same compile)" in table
+    assert "matched less sensor noise: the same renders as light (this scene calls for no more)" in table
 
 
 def test_the_throughput_comparison_turns_photometric_matching_off_as_the_sweep_does():
