@@ -38,6 +38,7 @@ from vc.model.config import DEFAULT_ARCH, PRESETS, NetworkConfig  # noqa: E402
 from vc.model.loss import scene_pose_loss  # noqa: E402
 from vc.model.network import ScenePoseNet  # noqa: E402
 from vc.model.train import TrainConfig, forward, memory_format  # noqa: E402
+from vc.stages.config import TRAINING_COMPUTE  # noqa: E402
 
 #: The demo scene's region inputs (scenes/demo) and PETS09's (scenes/pets09_s2l1).
 DEFAULT_INPUTS = ["1088x272", "704x320", "1248x320", "816x304", "528x256"]
@@ -77,8 +78,6 @@ def training_images_per_second(config: NetworkConfig, crop: tuple[int, int], bat
 
 
 #: The trainer's compute settings --compute compares: name -> (channels_last, bf16_autocast).
-COMPUTE = {"fp32": (False, False), "fp32 channels-last": (True, False), "bf16": (False, True),
-           "bf16 channels-last": (True, True)}
 
 
 def _cpu() -> tuple[str, list[str]]:
@@ -95,10 +94,10 @@ def _cpu() -> tuple[str, list[str]]:
 def compare_compute(crop: tuple[int, int], batch: int, steps: int, out: Path) -> None:
     """Time the default network's training step under each compute setting and write model_speed_compute.*."""
     config = PRESETS[DEFAULT_ARCH]
-    rates: dict[str, list[float]] = {name: [] for name in COMPUTE}
+    rates: dict[str, list[float]] = {name: [] for name in TRAINING_COMPUTE}
     for _ in range(2):  # interleaved: drift on a shared machine shows as a spread, not as a bias
-        for name, (channels_last, bf16) in COMPUTE.items():
-            compute = TrainConfig(network=config, channels_last=channels_last, bf16_autocast=bf16)
+        for name, settings in TRAINING_COMPUTE.items():
+            compute = TrainConfig(network=config, **settings)
             rates[name].append(training_images_per_second(config, crop, batch, steps, compute))
             print(f"{name}: {rates[name][-1]:.1f} img/s", flush=True)
     cpu, bf16_flags = _cpu()

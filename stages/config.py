@@ -107,6 +107,15 @@ class CompileConfig(_Section):
         return self.model_dump(mode="json")
 
 
+#: The trainer's compute settings by name: ``benchmarks/model_speed.py --compute`` times them, the accuracy sweep's
+#: ``compute`` knob measures what they do to accuracy. fp32 in NCHW is the default until that holds.
+TRAINING_COMPUTE: dict[str, dict[str, bool]] = {
+    "fp32": {"channels_last": False, "bf16_autocast": False},
+    "fp32 channels-last": {"channels_last": True, "bf16_autocast": False},
+    "bf16": {"channels_last": False, "bf16_autocast": True},
+    "bf16 channels-last": {"channels_last": True, "bf16_autocast": True},
+}
+
 PRESETS: dict[str, CompileConfig] = {
     # about 10 minutes for the demo scene on 2 cores: a working bundle, not an accurate one
     "quick": CompileConfig(render=RenderSettings(samples=300), train=TrainSettings(steps=200),

@@ -23,7 +23,7 @@ def test_compute_settings_are_timed_and_reported(tmp_path):
 
     model_speed.compare_compute((64, 64), batch=2, steps=1, out=tmp_path)
     report = json.loads((tmp_path / "model_speed_compute.json").read_text())
-    assert [row["compute"] for row in report["results"]] == list(model_speed.COMPUTE)
+    assert [row["compute"] for row in report["results"]] == list(model_speed.TRAINING_COMPUTE)
     assert all(rate > 0 for row in report["results"] for rate in row["images_per_second"])
     assert report["results"][0]["vs_fp32"] == 1.0 and "| bf16 channels-last |" in (
         tmp_path / "model_speed_compute.md").read_text()

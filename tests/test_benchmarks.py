@@ -38,6 +38,26 @@ def test_points_share_what_they_do_not_change():
     assert KNOBS["effects"]["on"] == KNOBS["regions"]["per-region"] == BASE
     seeds = KNOBS["seed"].values()
     assert {p.render_key() for p in seeds} == {BASE.render_key()} and len({p.train_key() for p in seeds}) == 3
+    compute = KNOBS["compute"]
+    assert compute["fp32"] == BASE and {p.render_key() for p in compute.values()} == {BASE.render_key()}
+    assert len({p.train_key() for p in compute.values()}) == 4  # bf16 seed 0 is not the fp32 seed 0
+
+
+def test_the_compute_knob_trains_with_the_settings_it_names(tmp_path, monkeypatch):
+    import vc.stages.export
+    import vc.stages.render
+    import vc.stages.train
+    from vc.stages.config import TRAINING_COMPUTE
+
+    trained = []
+    monkeypatch.setattr(vc.stages.render, "render", lambda *args, **kwargs: None)
+    monkeypatch.setattr(vc.stages.train, "train", lambda renders, run, settings, **kwargs: trained.append(settings))
+    monkeypatch.setattr(vc.stages.export, "export", lambda *args, **kwargs: None)
+    sweep = _sweep(tmp_path)
+    sweep.compile(KNOBS["compute"]["bf16 channels-last, seed 1"])
+    sweep.compile(BASE)
+    assert [(s.bf16_autocast, s.channels_last, s.seed) for s in trained] == [(True, True, 1), (False, False, 0)]
+    assert TRAINING_COMPUTE["fp32"] == {"channels_last": False, "bf16_autocast": False}
 
 
 def test_scene_overrides_plan_what_the_point_asks_for(tmp_path):
