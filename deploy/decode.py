@@ -64,6 +64,12 @@ class DecodeConfig:
     reach_vertical: float = 0.6
     min_width: float = 0.25  # the narrowest box, in person heights
     side_margin: float = 0.03  # added around the keypoints and mask that set the box's width, in person heights
+    # The box's top and bottom from the person's own head and ankle keypoints where both are confident (its
+    # height within ``keypoint_height_range`` of the expected one), else the expected height around the centre.
+    # Near eye level a few pixels of centre make a large difference in expected height (the horizon crosses
+    # the people), where the head and the feet say where the person is.
+    height_from_keypoints: bool = False
+    keypoint_height_range: float = 1.3
 
 
 
@@ -218,9 +224,35 @@ def _separated(centres_cells: np.ndarray, heights_cells: np.ndarray, separation:
     return kept
 
 
+#: Head keypoints (nose, eyes, ears) and ankles: the top and the bottom of a person's keypoints.
+HEAD_KEYPOINTS, ANKLE_KEYPOINTS = np.arange(0, 5), np.array([15, 16])
+
+
+def _vertical_extent(centre: np.ndarray, height_px: float, keypoints: np.ndarray,
+                     config: DecodeConfig) -> tuple[float, float]:
+    """Top and bottom of the box (input px). From the highest confident head keypoint and the lowest confident
+    ankle when ``config.height_from_keypoints``: on the upright prior they lie ``offset`` person heights from the
+    centre, so their distance is the height times the difference of their offsets, and the head's top and the
+    soles lie half a height from the centre. Otherwise, and where that height is more than
+    ``keypoint_height_range`` times off the expected one (a neighbour's ankle), the expected height centred on
+    the centre."""
+    if config.height_from_keypoints:
+        confident = keypoints[:, 2] >= config.keypoint_threshold
+        heads, ankles = HEAD_KEYPOINTS[confident[HEAD_KEYPOINTS]], ANKLE_KEYPOINTS[confident[ANKLE_KEYPOINTS]]
+        if len(heads) and len(ankles):
+            head = heads[np.argmin(keypoints[heads, 1])]
+            ankle = ankles[np.argmax(keypoints[ankles, 1])]
+            height = (keypoints[ankle, 1] - keypoints[head, 1]) / (UPRIGHT_OFFSETS[ankle] - UPRIGHT_OFFSETS[head])
+            if 1.0 / config.keypoint_height_range <= height / height_px <= config.keypoint_height_range:
+                top = keypoints[head, 1] - (0.5 + UPRIGHT_OFFSETS[head]) * height
+                return top, top + height
+    return centre[1] - height_px / 2, centre[1] + height_px / 2
+
+
 def _box(centre: np.ndarray, height_px: float, keypoints: np.ndarray, mask_cells: np.ndarray,
          config: DecodeConfig) -> np.ndarray:
-    """Expected height, centred on the centre; width from confident keypoints and mask (see module docstring)."""
+    """The box's top and bottom (:func:`_vertical_extent`); its width from confident keypoints and mask within
+    reach of the centre (see module docstring)."""
     confident = keypoints[:, 2] >= config.keypoint_threshold
     near = np.abs(keypoints[:, 0] - centre[0]) <= config.reach_sideways * height_px
     xs = list(keypoints[confident & near, 0])
@@ -231,4 +263,5 @@ def _box(centre: np.ndarray, height_px: float, keypoints: np.ndarray, mask_cells
     half_min = config.min_width * height_px / 2
     left = max(centre[0] - min(xs, default=centre[0]) + margin, half_min)
     right = max(max(xs, default=centre[0]) - centre[0] + margin, half_min)
-    return np.array([centre[0] - left, centre[1] - height_px / 2, centre[0] + right, centre[1] + height_px / 2])
+    top, bottom = _vertical_extent(centre, height_px, keypoints, config)
+    return np.array([centre[0] - left, top, centre[0] + right, bottom])
