@@ -45,6 +45,10 @@ def _field_value(name: str, text: str):
     types = {field.name: field.type for field in fields(DecodeConfig)}
     if name not in types:
         raise SystemExit(f"--variant: DecodeConfig has no field {name!r} (it has {', '.join(types)})")
+    if types[name] in (bool, "bool"):
+        if text.lower() not in ("true", "false"):
+            raise SystemExit(f"--variant: {name} is true or false, not {text!r}")
+        return text.lower() == "true"
     return int(text) if types[name] in (int, "int") else float(text)
 
 
