@@ -36,8 +36,9 @@ VARIANTS: dict[str, dict] = {
     "reach sideways 0.3": {"reach_sideways": 0.3},
     "keypoints >= 0.4 shape the box": {"keypoint_threshold": 0.4},
     "mask >= 0.7": {"mask_threshold": 0.7},
-    "height from head and ankles": {"height_from_keypoints": True},
-    "height from head and ankles, within 1.5x": {"height_from_keypoints": True, "keypoint_height_range": 1.5},
+    "height from the camera only (before)": {"height_from_keypoints": False},
+    "height from head and ankles within 1.3x": {"keypoint_height_range": 1.3},
+    "height from head and ankles within 2x": {"keypoint_height_range": 2.0},
 }
 
 
