@@ -68,7 +68,7 @@ class DecodeConfig:
     # The box's top and bottom from the person's own head and ankle keypoints where both are confident (its
     # height within ``keypoint_height_range`` of the expected one), else the expected height around the centre.
     # Since benchmarks/results/decode_variants_tud.md: on TUD-Stadtmitte's eye-level camera real AP50 0.693 ->
-    # 0.753 (both halves of the clip), on PETS09 within +-0.008 (0.892 -> 0.891 on the dev frames).
+    # 0.753 (both halves of the clip); on PETS09's raised camera 0.892 -> 0.891 and 0.892 -> 0.881 (two bundles).
     height_from_keypoints: bool = True
     keypoint_height_range: float = 1.5
 
