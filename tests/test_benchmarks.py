@@ -242,13 +242,19 @@ def test_without_the_runtime_timing_the_standard_compile_is_neither_timed_nor_co
         sweep.measure("samples", "20000", point)
 
 
+def _measured_before(work, knob: str, value: str, point, numbers: dict) -> dict:
+    """A point the sweep measured in ``work`` earlier, as it stores it there."""
+    measured = {"knob": knob, "value": value, **numbers}
+    earlier = work / "points" / knob / f"{value}-{point.bundle_key()}.json"
+    earlier.parent.mkdir(parents=True, exist_ok=True)
+    earlier.write_text(json.dumps(measured))
+    return measured
+
+
 def test_a_compile_measured_under_one_knob_is_not_measured_again_under_another(tmp_path, monkeypatch):
     """The standard compile is the reference value of every knob: ``arch fast`` is ``width 32`` already measured."""
     sweep = _sweep(tmp_path)
-    measured = {"knob": "width", "value": "32", "synthetic_ap50": 0.97, "runtime_vs_base": 1.0}
-    earlier = tmp_path / "points" / "width" / f"32-{BASE.bundle_key()}.json"
-    earlier.parent.mkdir(parents=True)
-    earlier.write_text(json.dumps(measured))
+    measured = _measured_before(tmp_path, "width", "32", BASE, {"synthetic_ap50": 0.97, "runtime_vs_base": 1.0})
     monkeypatch.setattr(sweep, "compile", lambda point: pytest.fail("compiled again"))
 
     result = sweep.measure("arch", "fast", KNOBS["arch"]["fast"])
@@ -289,11 +295,7 @@ def test_leaving_out_an_effect_the_scene_does_not_call_for_is_the_compile_it_equ
         "off": "off", "light": "light", "matched": "matched", "no sensor_noise": "light", "no jpeg": "matched",
         "no optical_blur": "matched"}
 
-    light = KNOBS["photometry"]["light"]
-    measured = {"knob": "photometry", "value": "light", "synthetic_ap50": 0.96}
-    earlier = tmp_path / "points" / "photometry" / f"light-{light.bundle_key()}.json"
-    earlier.parent.mkdir(parents=True)
-    earlier.write_text(json.dumps(measured))
+    measured = _measured_before(tmp_path, "photometry", "light", KNOBS["photometry"]["light"], {"synthetic_ap50": 0.96})
     monkeypatch.setattr(sweep, "compile", lambda point: pytest.fail("compiled again"))
     result = sweep.measure("photometry", "no sensor_noise", KNOBS["photometry"]["no sensor_noise"])
     assert result == measured | {"value": "no sensor_noise", "same_as": "light"}
