@@ -262,7 +262,7 @@ class Sweep:
         matched less an effect the scene does not call for is matched, and matched less the only camera effect it
         calls for is the estimated light alone. Such a value is one compile, measured once."""
         def renders(value: str) -> tuple:
-            overrides = {"effects": self.planned_effects} if value == "matched" else self.photometry_overrides(value)
+            overrides = self.photometry_overrides(value)  # "matched" leaves out nothing: the planned effects
             return frozenset(overrides["effects"]), json.dumps(overrides.get("lighting"), sort_keys=True)
 
         return next(value for value in PHOTOMETRY if renders(value) == renders(photometry))

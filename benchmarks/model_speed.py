@@ -77,9 +77,6 @@ def training_images_per_second(config: NetworkConfig, crop: tuple[int, int], bat
     return batch / _median_seconds(step, repetitions)
 
 
-#: The trainer's compute settings --compute compares: name -> (channels_last, bf16_autocast).
-
-
 def _cpu() -> tuple[str, list[str]]:
     """The CPU's model name and which bfloat16 instructions it has (from /proc/cpuinfo; Linux)."""
     try:

@@ -33,6 +33,7 @@ from vc.deploy.heatmaps import (
     cells_to_input,
     swap_pairs,
 )
+from vc.keypoints import COCO_KEYPOINTS
 
 #: Where each COCO keypoint sits on an upright person, below (+) or above (-) the centre, in person heights
 #: (surveillance views of pedestrians: heads up, feet down; the prior's width absorbs gait and lean).
@@ -226,7 +227,9 @@ def _separated(centres_cells: np.ndarray, heights_cells: np.ndarray, separation:
 
 
 #: Head keypoints (nose, eyes, ears) and ankles: the top and the bottom of a person's keypoints.
-HEAD_KEYPOINTS, ANKLE_KEYPOINTS = np.arange(0, 5), np.array([15, 16])
+HEAD_KEYPOINTS = np.array([COCO_KEYPOINTS.index(name) for name in
+                           ("nose", "left_eye", "right_eye", "left_ear", "right_ear")])
+ANKLE_KEYPOINTS = np.array([COCO_KEYPOINTS.index(name) for name in ("left_ankle", "right_ankle")])
 
 
 def _vertical_extent(centre: np.ndarray, height_px: float, keypoints: np.ndarray,
