@@ -26,7 +26,6 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from vc.calibration.materials import luminance  # noqa: E402
-from vc.calibration.response import Response  # noqa: E402
 from vc.deploy.frames import FrameRange, FrameSource  # noqa: E402
 from vc.evaluation.mot import read_mot_boxes  # noqa: E402
 from vc.io import read_image, write_json  # noqa: E402
@@ -58,7 +57,7 @@ def measure_people(image: np.ndarray, background: np.ndarray, boxes: np.ndarray)
 
 
 def real_people(scene, video: Path, gt: Path, frames: str) -> np.ndarray:
-    response = Response(scene.response)
+    response = scene.camera_response().response
     background = response.decode(read_image(scene.image_path))
     corners = read_mot_boxes(gt)
     measured = []
@@ -70,7 +69,7 @@ def real_people(scene, video: Path, gt: Path, frames: str) -> np.ndarray:
 
 
 def rendered_people(scene, dataset: Path, per_region: int) -> np.ndarray:
-    response = Response(scene.response)
+    response = scene.camera_response().response
     background = read_image(scene.image_path)
     measured = []
     for region in plan_regions(scene):

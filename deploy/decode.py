@@ -8,6 +8,9 @@
    if nearer to this centre, loses to this person's own. At most ``max_people`` peaks are decoded. Pairs come
    in image order and the handedness maps at the person's centre say which member is the left one
    (:mod:`vc.deploy.heatmaps`).
+   2b. With ``exclusive_keypoints``, the candidates are the local maxima of each keypoint map instead of every
+   cell, and they are shared out greedily, best prior-weighted value first: a peak goes to one person only, so
+   two people side by side never both take the stronger one's wrist.
 3. The mask cells above ``mask_threshold`` go to the nearest centre (in units of expected height).
 4. The box is scene-specific: its top and bottom are the person's own head and feet where their keypoints are
    confident and agree with the expected height of a person at that image position (the region's camera knows
@@ -72,6 +75,12 @@ class DecodeConfig:
     # 0.753 (both halves of the clip); on PETS09's raised camera 0.892 -> 0.891 and 0.892 -> 0.881 (two bundles).
     height_from_keypoints: bool = True
     keypoint_height_range: float = 1.5
+    # Each keypoint peak goes to one person at most (step 2b): people close together stop sharing a neighbour's
+    # wrist or ankle, which would widen or lengthen their boxes. Peaks weaker than ``keypoint_peak_floor`` are
+    # not candidates; a person left without a peak of some keypoint gets it at its upright position, with the
+    # map's value there as its confidence.
+    exclusive_keypoints: bool = False
+    keypoint_peak_floor: float = 0.05
 
 
 
@@ -164,8 +173,11 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
 
     people = []
     keypoint_maps = heatmaps[KEYPOINT_CHANNELS]
+    shared_out = (_exclusive_keypoints(keypoint_maps, centres_cells, heights_cells, config)
+                  if config.exclusive_keypoints else None)
     for index, (score, centre_cells) in enumerate(peaks):
-        keypoints = _keypoints(keypoint_maps, centre_cells, heights_cells[index], config)
+        keypoints = (shared_out[index] if shared_out is not None
+                     else _keypoints(keypoint_maps, centre_cells, heights_cells[index], config))
         if image_ordered:
             row, column = int(round(centre_cells[1])), int(round(centre_cells[0]))
             # A negative handedness: the pair's image-left member is the person's right one.
@@ -212,6 +224,48 @@ def _keypoints(keypoint_maps: np.ndarray, centre_cells: np.ndarray, height_cells
     peak_rows, peak_columns = y0 + best // len(columns), x0 + best % len(columns)
     keypoints[seen, :2] = cells_to_input(_refine_many(keypoint_maps[seen], peak_rows, peak_columns), config.stride)
     keypoints[seen, 2] = keypoint_maps[seen, peak_rows, peak_columns]
+    return keypoints
+
+
+def _exclusive_keypoints(keypoint_maps: np.ndarray, centres_cells: np.ndarray, heights_cells: np.ndarray,
+                         config: DecodeConfig) -> np.ndarray:
+    """(N, 17, 3) keypoints of the N people at ``centres_cells`` with each keypoint peak given to one person at
+    most (step 2b): per keypoint map, every (person, peak) pair is scored by the peak's value times the person's
+    upright prior (as in :func:`_keypoints`, cut at 3 prior widths), and pairs are taken best first while both
+    are free. A person who gets no peak has the keypoint at its upright position, with the map's value there."""
+    count, channels = len(centres_cells), keypoint_maps.shape[0]
+    _, height, width = keypoint_maps.shape
+    sigmas = config.search_sigma * heights_cells  # (N,)
+    expected = np.stack([np.broadcast_to(centres_cells[:, 0, None], (count, channels)),
+                         centres_cells[:, 1, None] + UPRIGHT_OFFSETS[None, :channels] * heights_cells[:, None]],
+                        axis=-1)  # (N, 17, 2) cells
+    keypoints = np.zeros((count, channels, 3))
+    fallback_rows = np.clip(np.round(expected[..., 1]).astype(int), 0, height - 1)
+    fallback_columns = np.clip(np.round(expected[..., 0]).astype(int), 0, width - 1)
+    on_map = (expected[..., 1] > -0.5) & (expected[..., 1] < height - 0.5)
+    for channel in range(channels):
+        peaks = find_peaks(keypoint_maps[channel], config.keypoint_peak_floor, limit=4 * count + 8)
+        taken = np.zeros(count, bool)
+        if peaks:
+            values = np.array([value for value, _ in peaks])
+            positions = np.array([position for _, position in peaks])  # (M, 2) cells
+            offset = positions[None] - expected[:, channel, None]  # (N, M, 2)
+            squared = (offset**2).sum(-1) / (2.0 * sigmas[:, None] ** 2)
+            near = (np.abs(offset) <= 3.0 * sigmas[:, None, None]).all(-1) & on_map[:, channel, None]
+            scores = np.where(near, values[None] * np.exp(-squared), 0.0)
+            free_peaks = np.ones(len(peaks), bool)
+            for flat in np.argsort(-scores, axis=None, kind="stable"):
+                person, peak = divmod(int(flat), len(peaks))
+                if scores[person, peak] <= 0.0:
+                    break
+                if taken[person] or not free_peaks[peak]:
+                    continue
+                taken[person], free_peaks[peak] = True, False
+                keypoints[person, channel] = (*cells_to_input(positions[peak], config.stride), values[peak])
+        for person in np.flatnonzero(~taken & on_map[:, channel]):
+            row, column = fallback_rows[person, channel], fallback_columns[person, channel]
+            keypoints[person, channel] = (*cells_to_input(expected[person, channel], config.stride),
+                                          keypoint_maps[channel, row, column])
     return keypoints
 
 

@@ -72,7 +72,7 @@ def _video_frames(scene: Scene) -> list[np.ndarray]:
 def measure_camera(scene: Scene) -> CameraMeasurements:
     """Measure the scene's camera from its background and, when it gives one, its video."""
     background = read_image(scene.image_path)
-    response = Response(scene.response)
+    response = scene.camera_response().response
     background_noise = estimate_noise_image(background, response)
     background_compression = estimate_jpeg(background)
     blur = estimate_blur_sigma(background)

@@ -205,13 +205,15 @@ def plan_entries(plan: dict) -> dict:
     rendered with, and nothing that varies from run to run (the effects' measured costs go to the render
     summary), so a resumed render writes the same manifest."""
     effects = [{key: value for key, value in effect.items() if key != "ms_per_sample"} for effect in plan["effects"]]
-    return {"lighting": plan["lighting"], "camera_measurements": plan["camera_measurements"], "effects": effects}
+    return {"response": plan["response"], "lighting": plan["lighting"],
+            "camera_measurements": plan["camera_measurements"], "effects": effects}
 
 
 def _rendered_with(manifest: dict) -> dict:
-    """What a dataset's pixels depend on beyond its settings: the light and each effect's state and parameters
-    (not the measured costs, which vary from run to run)."""
-    return {"illumination": manifest.get("lighting", {}).get("illumination"),
+    """What a dataset's pixels depend on beyond its settings: the camera response, the light and each effect's
+    state and parameters (not the measured costs, which vary from run to run)."""
+    return {"response": (manifest.get("response") or {}).get("name"),
+            "illumination": manifest.get("lighting", {}).get("illumination"),
             "effects": [(e.get("name"), e.get("on"), e.get("parameters")) for e in manifest.get("effects", [])]}
 
 

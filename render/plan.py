@@ -12,7 +12,7 @@ from dataclasses import dataclass, replace
 import cv2
 
 from vc.calibration.lighting import Illumination
-from vc.calibration.response import Response
+from vc.calibration.response_fit import ResponseFit
 from vc.io import read_image
 from vc.render.camera_measurements import CameraMeasurements, measure_camera
 from vc.render.effects import EffectDecision, Evidence, build_effects, effect_on, plan_effects, time_effect
@@ -25,6 +25,7 @@ from vc.scenes.regions import Region
 class RenderPlan:
     """The light and the effects of a scene's samples, with the evidence for them."""
 
+    response: ResponseFit
     lighting: LightingSolution
     camera: CameraMeasurements
     effects: list[EffectDecision]
@@ -39,7 +40,8 @@ class RenderPlan:
         return effect_on(self.effects, "shadows")
 
     def to_dict(self) -> dict:
-        return {"lighting": self.lighting.to_dict(), "camera_measurements": self.camera.to_dict(),
+        return {"response": self.response.to_dict(), "lighting": self.lighting.to_dict(),
+                "camera_measurements": self.camera.to_dict(),
                 "effects": [decision.to_dict() for decision in self.effects], "seconds": round(self.seconds, 2)}
 
 
@@ -55,18 +57,20 @@ def with_costs(decisions: list[EffectDecision], scene: Scene, regions: list[Regi
     """The decisions with each sample-level effect's cost measured on the largest region (the renderer's own
     effects cost what they add to the render pass, which the render summary's stage times show)."""
     largest = max(regions, key=lambda region: region.input_size[0] * region.input_size[1])
-    background = Response(scene.response).decode(region_background(read_image(scene.image_path), largest))
+    background = scene.camera_response().response.decode(region_background(read_image(scene.image_path), largest))
     costs = {effect.name: round(time_effect(effect, background), 3)
              for effect in build_effects(decisions, scene, largest)}
     return [replace(decision, ms_per_sample=costs.get(decision.name)) for decision in decisions]
 
 
 def plan_render(scene: Scene, regions: list[Region], time_costs: bool = True) -> RenderPlan:
-    """Resolve the light (:func:`vc.render.relight.solve_lighting`), measure the camera, decide the effects."""
+    """Resolve the camera response and the light (:func:`vc.render.relight.solve_lighting`), measure the camera,
+    decide the effects."""
     started = time.perf_counter()
+    response = scene.camera_response()
     lighting = solve_lighting(scene, regions)
     camera = measure_camera(scene)
     decisions = plan_effects(Evidence(scene, regions, lighting.illumination, lighting.fit, camera))
     if time_costs:
         decisions = with_costs(decisions, scene, regions)
-    return RenderPlan(lighting, camera, decisions, time.perf_counter() - started)
+    return RenderPlan(response, lighting, camera, decisions, time.perf_counter() - started)

@@ -36,7 +36,6 @@ from vc.calibration.lighting import (
     solar_position,
 )
 from vc.calibration.materials import ground_albedo_prior, is_vegetation, luminance
-from vc.calibration.response import Response
 from vc.errors import InputError
 from vc.io import read_image
 from vc.render.background import render_linear
@@ -173,7 +172,7 @@ class LightingSolution:
 def background_view(scene: Scene, solids: list[np.ndarray]) -> GroundView:
     """The scene's background decoded with its response, and its known ground."""
     image = read_image(scene.image_path)
-    response = Response(scene.response)
+    response = scene.camera_response().response
     # Saturated highlights carry no level; a single channel at 0 is a saturated colour (a lawn's blue), not a
     # clipped pixel, and its luminance is still good.
     clipped = (image.max(axis=-1) == 255) | (image.max(axis=-1) == 0)
@@ -273,7 +272,7 @@ def write_comparison(scene: Scene, regions: list[Region], solution: LightingSolu
     from vc.evaluation.plots import plot_lighting_comparison
 
     fit = solution.fit
-    response = Response(scene.response)
+    response = scene.camera_response().response
     outlines = {region.name: [np.asarray(polygon.exterior.coords)[:, :2]
                               for polygon in getattr(region.owned_image_area, "geoms", [region.owned_image_area])
                               if isinstance(polygon, shapely.Polygon) and not polygon.is_empty]

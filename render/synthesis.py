@@ -21,7 +21,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from vc.calibration.response import Response
 from vc.io import read_image
 from vc.render.appearance import sample_appearance, vertex_albedo
 from vc.render.bodies import BodyModel, sample_gait, sample_phenotype
@@ -71,7 +70,7 @@ class RegionSynthesizer:
                  plan: RenderPlan) -> None:
         self.scene, self.region, self.bodies, self.settings = scene, region, bodies, settings
         self.camera = region.camera(scene.camera)
-        self.response = Response(scene.response)
+        self.response = scene.camera_response().response
         self.background = self.response.decode(region_background(read_image(scene.image_path), region))
         self.placements = PlacementSampler(scene.camera, scene.layout, region.ground, scene.priors)
         self.max_people = settings.max_people if settings.max_people is not None else default_max_people(

@@ -18,6 +18,7 @@ from pydantic import ValidationError
 from vc.calibration.camera import Camera
 from vc.calibration.distortion import distortion_from_dict
 from vc.calibration.readers import read_calibration
+from vc.calibration.response_fit import ResponseFit, resolve_response
 from vc.errors import InputError
 from vc.io import image_size
 from vc.scenes.layout import Layout
@@ -46,6 +47,11 @@ class Scene:
     video_path: Path | None = None  # frames of the same camera, when the scene gives them
     exposure_s: float | None = None  # the camera's exposure time, when the scene gives it
     drawn_layout: PixelLayout | None = None  # the layout as drawn in pixels, when the scene gives it so
+
+    def camera_response(self) -> ResponseFit:
+        """The camera response every stage decodes and encodes with: the one the scene names, or (``auto``) the
+        one fitted on its background image, with the evidence."""
+        return resolve_response(self.response, self.image_path)
 
     @property
     def folder(self) -> Path:

@@ -21,8 +21,9 @@ Matrix3 = Annotated[list[Annotated[list[float], Field(min_length=3, max_length=3
                                                                                           max_length=3)]
 Size = Annotated[list[Annotated[int, Field(gt=0)]], Field(min_length=2, max_length=2)]
 
-#: Camera responses accepted today: sRGB, linear, or a pure gamma ("gamma 2.2").
-RESPONSE_PATTERN = re.compile(r"^(srgb|linear|gamma\s+\d+(\.\d+)?)$")
+#: Camera responses accepted: sRGB, linear, a pure gamma ("gamma 2.2"), or ``auto`` (fitted on the background
+#: where it shows one, :mod:`vc.calibration.response_fit`).
+RESPONSE_PATTERN = re.compile(r"^(srgb|linear|auto|gamma\s+\d+(\.\d+)?)$")
 #: Effects the renderer knows (DESIGN.md "Effects"); ``auto`` lets the scene decide which it needs.
 EFFECT_NAMES = ("lens_distortion", "shadows", "motion_blur", "optical_blur", "vignetting", "sensor_noise", "jpeg",
                 "defocus")
@@ -30,7 +31,7 @@ EFFECT_NAMES = ("lens_distortion", "shadows", "motion_blur", "optical_blur", "vi
 
 def _response(value: str) -> str:
     if not RESPONSE_PATTERN.match(value.strip().lower()):
-        raise ValueError(f"unknown camera response {value!r} (expected srgb, linear or 'gamma G')")
+        raise ValueError(f"unknown camera response {value!r} (expected srgb, linear, 'gamma G' or auto)")
     return value.strip().lower()
 
 

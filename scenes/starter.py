@@ -156,7 +156,7 @@ def make_starter_scene(source: Path, folder: Path, points: Path | None = None, c
         copied = folder / f"calibration{calibration.suffix.lower()}"
         if calibration.resolve() != copied.resolve():
             shutil.copyfile(calibration, copied)
-        reference = {"format": calibration_format, "path": copied.name, "size": list(size)}
+        reference = {"format": calibration_format, "path": copied.name, "size": list(size), "response": "auto"}
         if focal_px is not None:
             reference["focal_px"] = focal_px
         source_text = f"{calibration_format} file {calibration.name}"
@@ -175,7 +175,7 @@ def make_starter_scene(source: Path, folder: Path, points: Path | None = None, c
         fit = calibrate_from_ground_points(image_points, ground_points, size, focal_px, where)
         camera = fit.camera
         write_opencv_yaml(camera, folder / "camera.yaml")
-        reference = {"format": "opencv", "path": "camera.yaml"}
+        reference = {"format": "opencv", "path": "camera.yaml", "response": "auto"}
     priors, plan = Priors(), RegionPlanSpec()
     walkable = walkable_outline(camera, priors.height_m[0], plan.min_person_px)
     document = {"name": name or scene_name(folder), "image": "background.png"}

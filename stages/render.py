@@ -121,7 +121,7 @@ def writable_folder(path: Path) -> None:
 def describe_plan(plan: RenderPlan) -> list[str]:
     """The light and the effects plan as lines: each effect on/off, why, its parameters and its cost per sample."""
     lighting = plan.lighting
-    lines = [f"light  {lighting.summary()}"]
+    lines = [f"response  {plan.response.name} ({plan.response.reason})", f"light  {lighting.summary()}"]
     if lighting.estimate is not None:
         lines.append(f"       {lighting.estimate.reason}")
     if lighting.fit is not None:

@@ -196,3 +196,29 @@ def test_noise_decodes_to_at_most_max_people_strongest_first() -> None:
     assert people[0].score == pytest.approx(strongest[0])
     assert np.all(np.diff([person.score for person in people]) <= 0)
 
+
+
+def test_exclusive_keypoints_keep_a_neighbour_s_feet_out_of_a_person_s_box():
+    """One person a little behind another, their feet hidden by the one in front, whose feet are strong. Sharing
+    the peaks, the person behind takes the front person's ankles and their box reaches down to them; with
+    exclusive keypoints the front person keeps their own ankles, and the person behind falls back to the height
+    the camera expects."""
+    behind, front = _person((100.0, 90.0), 100.0, 1), _person((112.0, 112.0), 100.0, 2)
+    heatmaps = encode([behind, front], _instances([behind, front]), CodecConfig(stride=STRIDE))
+    heights = np.full(heatmaps.shape[1:], 100.0)
+    for ankle in (15, 16):
+        column, row = (int(round(v)) for v in input_to_cells(behind["keypoints"][3 * ankle:3 * ankle + 2], STRIDE))
+        heatmaps[1 + 15:1 + 17, row - 2:row + 3, column - 2:column + 3] = 0.0  # the ankle maps only
+    shared = decode(heatmaps, DecodeConfig(stride=STRIDE), heights)
+    exclusive = decode(heatmaps, DecodeConfig(stride=STRIDE, exclusive_keypoints=True), heights)
+    assert len(shared) == len(exclusive) == 2
+    (behind_shared, front_shared), (behind_exclusive, front_exclusive) = (
+        sorted(found, key=lambda person: person.centre[1]) for found in (shared, exclusive))
+    assert behind_shared.box[3] == pytest.approx(front["amodal_bbox"][1] + 100.0, abs=3.0)  # the front one's feet
+    assert behind_exclusive.box[3] == pytest.approx(behind["amodal_bbox"][1] + 100.0, abs=1.0)  # its own height
+    assert behind_exclusive.keypoints[[15, 16], 2].max() < 0.2  # no ankles of its own
+    np.testing.assert_allclose(front_exclusive.keypoints, front_shared.keypoints, atol=1e-6)
+    np.testing.assert_allclose(front_exclusive.box, front_shared.box, atol=1e-6)
+    head_and_body = np.arange(15)
+    np.testing.assert_allclose(behind_exclusive.keypoints[head_and_body], behind_shared.keypoints[head_and_body],
+                               atol=1e-6)

@@ -138,6 +138,8 @@ def test_dataset_layout_and_manifest(rendered_dataset, demo_scene) -> None:
         image = read_image(last / "images" / "000010.png")
         assert image.shape == (region["input_size"][1], region["input_size"][0], 3)
     assert {e["name"] for e in manifest["effects"]} >= {"lens_distortion", "shadows"}
+    assert manifest["response"] == {"name": "srgb", "identified": True, "reason": "given by the scene", "edges": 0,
+                                    "misfits": {}}
     summary = json.loads((rendered_dataset / "render_summary.json").read_text())
     assert summary["dataset"] == {name: region["counts"] for name, region in manifest["regions"].items()}
 

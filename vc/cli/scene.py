@@ -43,6 +43,7 @@ def scene_summary(scene: Scene, regions: list[Region]) -> dict:
             **camera.to_dict(),
             "centre_m": [round(float(v), 4) for v in camera.center],
             "response": scene.response,
+            "response_fit": scene.camera_response().to_dict() if scene.response == "auto" else None,
         },
         "layout": {
             "walkable_area_m2": round(float(scene.layout.walkable_area().area), 2),
@@ -63,6 +64,8 @@ def _print_summary(summary: dict) -> None:
     print(f"camera  {width}x{height}  fx={K[0][0]:.1f} fy={K[1][1]:.1f} cx={K[0][2]:.1f} cy={K[1][2]:.1f}  "
           f"distortion={camera['distortion']['model']}  height={camera['centre_m'][2]:.2f} m  "
           f"response={camera['response']}")
+    if camera["response_fit"] is not None:
+        print(f"        response fitted: {camera['response_fit']['name']} ({camera['response_fit']['reason']})")
     layout = summary["layout"]
     print(f"layout  walkable {layout['walkable_area_m2']:.1f} m2, {layout['obstacles']} obstacles, "
           f"{layout['walls']} walls")
