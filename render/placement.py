@@ -40,9 +40,11 @@ BEHIND_OBSTACLE_M = 1.2
 MIN_SEPARATION_M = 0.6
 #: Tries per person before a crowded sample settles for fewer people.
 MAX_TRIES = 50
-#: About one person per this many square metres of region ground is the default maximum crowd (2 to 6).
-GROUND_M2_PER_PERSON = 40.0
-DEFAULT_MAX_PEOPLE = (2, 6)
+#: A sample holds up to one person per ``priors.m2_per_person`` of its region's ground, at least
+#: :data:`MIN_MAX_PEOPLE`; at most :data:`CAP_AT_DEFAULT_DENSITY` at the default density (40 m2 a person), a cap that
+#: bounds a large region's render time and grows with the density the scene states (24 at 10 m2 a person).
+MIN_MAX_PEOPLE = 2
+CAP_AT_DEFAULT_DENSITY = 6
 #: Group sizes (people in all) and their chances: pairs most, few groups beyond four.
 GROUP_SIZES = {2: 0.7, 3: 0.22, 4: 0.08}
 #: Walking abreast: centre-to-centre spacing (m), stagger along the walking direction (m), heading spread (deg).
@@ -70,9 +72,10 @@ class Placement:
     kind: str  # "region" | "border" | "behind_obstacle"
 
 
-def default_max_people(region_ground: shapely.Geometry) -> int:
-    low, high = DEFAULT_MAX_PEOPLE
-    return int(np.clip(math.ceil(region_ground.area / GROUND_M2_PER_PERSON), low, high))
+def default_max_people(region_ground: shapely.Geometry, m2_per_person: float) -> int:
+    """The most people a sample of the region holds (see :data:`MIN_MAX_PEOPLE`); a sample draws 0 to this many."""
+    cap = math.ceil(CAP_AT_DEFAULT_DENSITY * Priors.model_fields["m2_per_person"].default / m2_per_person)
+    return int(np.clip(math.ceil(region_ground.area / m2_per_person), MIN_MAX_PEOPLE, max(cap, MIN_MAX_PEOPLE)))
 
 
 class PlacementSampler:

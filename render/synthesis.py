@@ -74,7 +74,7 @@ class RegionSynthesizer:
         self.background = self.response.decode(region_background(read_image(scene.image_path), region))
         self.placements = PlacementSampler(scene.camera, scene.layout, region.ground, scene.priors)
         self.max_people = settings.max_people if settings.max_people is not None else default_max_people(
-            region.ground)
+            region.ground, scene.priors.m2_per_person)
         self.renderer = PeopleRenderer(self.camera, scene.layout, plan.illumination, bodies.faces,
                                        bodies.vertex_count, max(self.max_people, 1), settings.spp,
                                        shadows=plan.shadows)

@@ -121,6 +121,9 @@ class Priors(StrictModel):
     #: The chance that a person placed in a sample walks with others: a group of 2-4 side by side or in file
     #: (render/placement.py). 0 places everyone on their own.
     group_rate: float = Field(0.0, ge=0.0, le=1.0)
+    #: Ground per person where the scene is at its busiest (m2): about 40 for a quiet plaza (the default), 10 for
+    #: a busy pavement, 3 for a crowd. Sets how many people a sample holds (render/placement.py).
+    m2_per_person: float = Field(40.0, ge=1.0)
 
     @field_validator("height_m")
     @classmethod

@@ -9,7 +9,7 @@ import shapely
 from shapely.geometry import Point, Polygon
 
 from vc.calibration.camera import Camera, look_at
-from vc.render.placement import BORDER_RING_M, MIN_SEPARATION_M, PlacementSampler
+from vc.render.placement import BORDER_RING_M, MIN_SEPARATION_M, PlacementSampler, default_max_people
 from vc.scenes.layout import Box, Layout
 from vc.scenes.schema import Priors, VonMises
 
@@ -97,3 +97,14 @@ def test_groups_walk_together_and_no_groups_leaves_the_draws_unchanged() -> None
     first = [(p.position, p.yaw_deg) for p in alone.sample(5, np.random.default_rng(7))]
     again = PlacementSampler(CAMERA, LAYOUT, REGION, Priors(group_rate=0.0))
     assert first == [(p.position, p.yaw_deg) for p in again.sample(5, np.random.default_rng(7))]
+
+
+def test_a_busier_scene_puts_more_people_in_a_sample() -> None:
+    """One person per ``m2_per_person`` of region ground: the default density keeps its 2-6, a crowd's cap grows."""
+    def most(area_m2: float, m2_per_person: float) -> int:
+        side = math.sqrt(area_m2)
+        return default_max_people(shapely.box(0.0, 0.0, side, side), m2_per_person)
+
+    default = Priors().m2_per_person
+    assert [most(area, default) for area in (10.0, 89.7, 180.0, 1000.0)] == [2, 3, 5, 6]
+    assert [most(area, 10.0) for area in (10.0, 89.7, 1000.0)] == [2, 9, 24]
