@@ -32,7 +32,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import torch  # noqa: E402
 
-from vc.cores import usable_cores  # noqa: E402
+from vc.cores import cpu_facts, usable_cores  # noqa: E402
 from vc.io import write_json  # noqa: E402
 from vc.model.config import DEFAULT_ARCH, PRESETS, NetworkConfig  # noqa: E402
 from vc.model.loss import scene_pose_loss  # noqa: E402
@@ -77,17 +77,6 @@ def training_images_per_second(config: NetworkConfig, crop: tuple[int, int], bat
     return batch / _median_seconds(step, repetitions)
 
 
-def _cpu() -> tuple[str, list[str]]:
-    """The CPU's model name and which bfloat16 instructions it has (from /proc/cpuinfo; Linux)."""
-    try:
-        info = Path("/proc/cpuinfo").read_text()
-    except OSError:
-        return "unknown", []
-    name = next((line.split(":", 1)[1].strip() for line in info.splitlines() if line.startswith("model name")), "?")
-    flags = next((line.split(":", 1)[1].split() for line in info.splitlines() if line.startswith("flags")), [])
-    return name, [flag for flag in ("amx_bf16", "avx512_bf16") if flag in flags]
-
-
 def compare_compute(crop: tuple[int, int], batch: int, steps: int, out: Path) -> None:
     """Time the default network's training step under each compute setting and write model_speed_compute.*."""
     config = PRESETS[DEFAULT_ARCH]
@@ -97,7 +86,7 @@ def compare_compute(crop: tuple[int, int], batch: int, steps: int, out: Path) ->
             compute = TrainConfig(network=config, **settings)
             rates[name].append(training_images_per_second(config, crop, batch, steps, compute))
             print(f"{name}: {rates[name][-1]:.1f} img/s", flush=True)
-    cpu, bf16_flags = _cpu()
+    cpu, bf16_flags = cpu_facts()
     base = float(np.mean(rates["fp32"]))
     rows = [{"compute": name, "images_per_second": [round(rate, 2) for rate in values],
              "vs_fp32": round(float(np.mean(values)) / base, 2)} for name, values in rates.items()]

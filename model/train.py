@@ -28,7 +28,7 @@ from torch.utils.data import DataLoader
 from tqdm import tqdm
 
 from vc.calibration.camera import camera_from_dict
-from vc.cores import usable_cores
+from vc.cores import cpu_facts, usable_cores
 from vc.deploy.decode import DecodeConfig
 from vc.errors import InputError, StageError
 from vc.evaluation.plots import plot_precision_recall, plot_training_curve
@@ -72,9 +72,10 @@ class TrainConfig:
     seed: int = 0
     checkpoint_every: int = 200
     held_out_fraction: float = 0.1
-    #: Forward pass in bfloat16 (torch.autocast; weights, loss and optimiser stay fp32). On a CPU with AMX-BF16
-    #: a training step of the fast network takes about half the time (benchmarks/model_speed.py --compute); off by
-    #: default until a standard compile has shown that it holds real accuracy.
+    #: Forward pass in bfloat16 (torch.autocast; weights, loss and optimiser stay fp32). On a CPU with bf16
+    #: instructions a training step of the fast network takes about half the time (benchmarks/model_speed.py
+    #: --compute). Explicit here, so that a run's stored config says what it trained with; a compile's ``auto``
+    #: (stages/config.py) turns it on where :func:`native_bf16`.
     bf16_autocast: bool = False
     #: Activations in channels-last (NHWC) memory order, which oneDNN's convolutions prefer on the CPU.
     channels_last: bool = False
@@ -117,6 +118,15 @@ def read_train_config(data: dict, path: Path) -> TrainConfig:
                                                                                                strict=True))
         raise InputError(path, f"train_config.{where[0]}".rstrip("."), f"stored training config not readable by "
                                                                        f"this version ({reason})") from None
+
+
+def native_bf16() -> bool:
+    """Whether the device :func:`select_device` picks computes in bfloat16 natively: a CUDA GPU that supports it,
+    or a CPU with bf16 instructions (:data:`vc.cores.BF16_INSTRUCTIONS`). Elsewhere PyTorch emulates bf16, slower
+    than fp32, so a compile's ``auto`` compute stays in fp32 there."""
+    if torch.cuda.is_available():
+        return torch.cuda.is_bf16_supported()
+    return bool(cpu_facts()[1])
 
 
 def select_device() -> torch.device:

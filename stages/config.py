@@ -23,7 +23,7 @@ from vc.errors import InputError
 from vc.io import atomic_path
 from vc.model.config import DEFAULT_ARCH, network_config
 from vc.model.config import PRESETS as NETWORK_PRESETS
-from vc.model.train import TrainConfig
+from vc.model.train import TrainConfig, native_bf16
 from vc.render.job import DEFAULT_SHARD_SIZE
 from vc.render.synthesis import SynthesisSettings
 
@@ -59,10 +59,10 @@ class TrainSettings(_Section):
     batch_size: int = Field(TrainConfig.batch_size, ge=1, description="windows per step")
     seed: int = Field(TrainConfig.seed, description="seed of the weights and the data order")
     workers: int = Field(1, ge=0, description="data-loading processes (not part of what is trained)")
-    bf16_autocast: bool = Field(TrainConfig.bf16_autocast, description="forward pass in bfloat16 (a CPU with "
-                                                                       "AMX-BF16 trains about twice as fast)")
-    channels_last: bool = Field(TrainConfig.channels_last, description="NHWC activations (oneDNN's preferred "
-                                                                       "order on the CPU)")
+    bf16_autocast: bool | Literal["auto"] = Field("auto", description="forward pass in bfloat16; auto: where "
+                                                  "the hardware has bf16 instructions (about twice as fast there)")
+    channels_last: bool | Literal["auto"] = Field("auto", description="NHWC activations (oneDNN's preferred order "
+                                                  "on the CPU); auto: with bf16")
 
     def train_config(self) -> TrainConfig:
         """The full training config; a width or SB count the network cannot take is bad input."""
@@ -72,8 +72,10 @@ class TrainSettings(_Section):
             network = replace(network_config(self.arch), **overrides)
         except ValueError as error:
             raise InputError(None, "train.width/train.sb_units", str(error)) from None
+        bf16 = native_bf16() if self.bf16_autocast == "auto" else self.bf16_autocast
+        channels_last = bf16 if self.channels_last == "auto" else self.channels_last
         return TrainConfig(network=network, steps=self.steps, batch_size=self.batch_size, seed=self.seed,
-                           bf16_autocast=self.bf16_autocast, channels_last=self.channels_last)
+                           bf16_autocast=bf16, channels_last=channels_last)
 
 
 class ExportSettings(_Section):
@@ -108,7 +110,9 @@ class CompileConfig(_Section):
 
 
 #: The trainer's compute settings by name: ``benchmarks/model_speed.py --compute`` times them, the accuracy sweep's
-#: ``compute`` knob measures what they do to accuracy. fp32 in NCHW is the default until that holds.
+#: ``compute`` knob measures what they do to accuracy. A compile's default (``auto``) is bf16 channels-last where
+#: the hardware has bf16 instructions and fp32 elsewhere: three PETS09 seeds held real accuracy
+#: (benchmarks/results/compute_bf16_pets09.md).
 TRAINING_COMPUTE: dict[str, dict[str, bool]] = {
     "fp32": {"channels_last": False, "bf16_autocast": False},
     "fp32 channels-last": {"channels_last": True, "bf16_autocast": False},

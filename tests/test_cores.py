@@ -44,3 +44,28 @@ def test_training_on_the_cpu_takes_one_thread_per_usable_core(monkeypatch):
         assert select_device().type == "cpu" and torch.get_num_threads() == 1
     finally:
         torch.set_num_threads(before)
+
+
+@pytest.mark.parametrize(("native", "expected"), [(True, (True, True)), (False, (False, False))])
+def test_a_compile_trains_in_bf16_channels_last_where_the_hardware_has_bf16(monkeypatch, native, expected):
+    """``auto`` (the default) follows the hardware; explicit settings are kept as given, whatever it has."""
+    import vc.stages.config as stages_config
+
+    monkeypatch.setattr(stages_config, "native_bf16", lambda: native)
+    resolved = stages_config.TrainSettings().train_config()
+    assert (resolved.bf16_autocast, resolved.channels_last) == expected
+    explicit = stages_config.TrainSettings(bf16_autocast=False, channels_last=True).train_config()
+    assert (explicit.bf16_autocast, explicit.channels_last) == (False, True)
+
+
+def test_the_cpu_s_bf16_instructions_are_read_from_its_flags(monkeypatch, tmp_path):
+    import vc.cores as cores
+
+    info = tmp_path / "cpuinfo"
+    info.write_text("model name\t: Test CPU\nflags\t\t: fpu sse2 avx512f avx512_bf16 amx_tile\n")
+    monkeypatch.setattr(cores, "Path", lambda _: info)
+    cores.cpu_facts.cache_clear()
+    try:
+        assert cores.cpu_facts() == ("Test CPU", ("avx512_bf16",))
+    finally:
+        cores.cpu_facts.cache_clear()

@@ -1,4 +1,6 @@
-"""How many cores this process may use: the one number the trainer, the renderer and the runtime size their pools by.
+"""The CPU this process runs on: how many cores it may use (the one number the trainer, the renderer and the
+runtime size their pools by), and whether it has bfloat16 instructions (which the trainer's ``auto`` compute
+setting asks).
 
 ``os.cpu_count()`` counts the machine's cores, not this process's. Under anything that hands a process part of a
 machine — a Ray task (Ray sets ``OMP_NUM_THREADS`` to the task's CPUs), Slurm, ``taskset``, a container's CPU set
@@ -8,7 +10,12 @@ running (measured here: a training run beside a second process fell from 42 to 5
 
 from __future__ import annotations
 
+import functools
 import os
+from pathlib import Path
+
+#: The x86 instructions that run bfloat16 arithmetic natively; without them PyTorch emulates it, slower than fp32.
+BF16_INSTRUCTIONS = ("amx_bf16", "avx512_bf16")
 
 
 def usable_cores() -> int:
@@ -25,3 +32,16 @@ def usable_cores() -> int:
     if hasattr(os, "sched_getaffinity"):
         return max(1, len(os.sched_getaffinity(0)))
     return os.cpu_count() or 1
+
+
+@functools.cache
+def cpu_facts() -> tuple[str, tuple[str, ...]]:
+    """The CPU's model name and which of :data:`BF16_INSTRUCTIONS` it has, from ``/proc/cpuinfo`` (Linux; elsewhere
+    ``("unknown", ())``, and the trainer's ``auto`` stays in fp32)."""
+    try:
+        info = Path("/proc/cpuinfo").read_text()
+    except OSError:
+        return "unknown", ()
+    name = next((line.split(":", 1)[1].strip() for line in info.splitlines() if line.startswith("model name")), "?")
+    flags = next((line.split(":", 1)[1].split() for line in info.splitlines() if line.startswith("flags")), [])
+    return name, tuple(flag for flag in BF16_INSTRUCTIONS if flag in flags)

@@ -50,7 +50,8 @@ def _parser() -> argparse.ArgumentParser:
 
 def report_job(job: TrainingJob) -> None:
     print(f"vc-train: {len(job.regions)} region(s) of {job.dataset}, {job.config.network.name} network, "
-          f"{job.config.steps} steps of {job.config.batch_size}, on {job.device.type}")
+          f"{job.config.steps} steps of {job.config.batch_size}, on {job.device.type} in "
+          f"{'bf16' if job.config.bf16_autocast else 'fp32'}{' channels-last' if job.config.channels_last else ''}")
 
 
 def report_results(results: list[RegionResult], run: Path) -> None:
