@@ -158,7 +158,8 @@ def test_a_damaged_checkpoint_is_refused_never_used(straight, tmp_path):
     path = tmp_path / "r0.pt"
     content = torch.load(checkpoint_path(straight / "run", "r0"), weights_only=True)
     first = next(iter(content["model"]))
-    content["model"][first].view(-1)[0] += 1e-3  # one weight changed, the stored digest kept
+    weight = content["model"][first]  # channels-last where the run trained so: index it, do not view it flat
+    weight[(0,) * weight.dim()] += 1e-3  # one weight changed, the stored digest kept
     torch.save(content, path)
     with pytest.raises(InputError, match="does not match its digest") as error:
         load_checkpoint(path)
