@@ -106,6 +106,19 @@ class TrainConfig:
 _TRAIN_CONFIG = TypeAdapter(TrainConfig)
 
 
+def centre_map_settings(sigma: float) -> dict:
+    """:class:`TrainConfig` fields for a centre map of Gaussians ``sigma`` person heights wide. Three settings
+    move together: the codec draws the Gaussians; the decoder's smallest separation between two people's peaks
+    scales with them (two Gaussians closer than about two sigmas merge into one peak); and the detection loss's
+    weight grows as their area shrinks, so that the centre term keeps its share of the loss (an MSE over all cells
+    is proportional to the Gaussians' area, as :class:`LossWeights` says of the keypoint maps)."""
+    default = CodecConfig.centre_sigma
+    return {"codec": replace(CodecConfig(), centre_sigma=sigma),
+            "decode": replace(DecodeConfig(),
+                              min_centre_separation=DecodeConfig.min_centre_separation * sigma / default),
+            "loss": replace(LossWeights(), detection=LossWeights.detection * (default / sigma) ** 2)}
+
+
 def read_train_config(data: dict, path: Path) -> TrainConfig:
     """:meth:`TrainConfig.from_dict` for the config stored in the file at ``path``: one InputError naming the file
     and the first offending field (``train_config.<field>``), every problem in its reason."""

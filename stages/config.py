@@ -23,7 +23,7 @@ from vc.errors import InputError
 from vc.io import atomic_path
 from vc.model.config import DEFAULT_ARCH, network_config
 from vc.model.config import PRESETS as NETWORK_PRESETS
-from vc.model.train import TrainConfig, native_bf16
+from vc.model.train import TrainConfig, centre_map_settings, native_bf16
 from vc.render.job import DEFAULT_SHARD_SIZE
 from vc.render.synthesis import SynthesisSettings
 
@@ -63,6 +63,9 @@ class TrainSettings(_Section):
                                                   "the hardware has bf16 instructions (about twice as fast there)")
     channels_last: bool | Literal["auto"] = Field("auto", description="NHWC activations (oneDNN's preferred order "
                                                   "on the CPU); auto: with bf16")
+    centre_sigma: float | None = Field(None, gt=0.0, le=0.5,
+                                       description="the centre map's Gaussian, in person heights (None: the codec's); "
+                                                   "sharper lets people one behind another keep two peaks")
 
     def train_config(self) -> TrainConfig:
         """The full training config; a width or SB count the network cannot take is bad input."""
@@ -74,8 +77,9 @@ class TrainSettings(_Section):
             raise InputError(None, "train.width/train.sb_units", str(error)) from None
         bf16 = native_bf16() if self.bf16_autocast == "auto" else self.bf16_autocast
         channels_last = bf16 if self.channels_last == "auto" else self.channels_last
+        centre = {} if self.centre_sigma is None else centre_map_settings(self.centre_sigma)
         return TrainConfig(network=network, steps=self.steps, batch_size=self.batch_size, seed=self.seed,
-                           bf16_autocast=bf16, channels_last=channels_last)
+                           bf16_autocast=bf16, channels_last=channels_last, **centre)
 
 
 class ExportSettings(_Section):
