@@ -3,10 +3,12 @@ computed once, then decoded under each variant of its regions' ``DecodeConfig``;
 (:mod:`vc.evaluation.misses`) of each variant.
 
     python benchmarks/decode_variants.py BUNDLE --video V --gt GT.txt [--frames 1:400:5]
-        [--variant NAME FIELD=VALUE [FIELD=VALUE ...]]... --out DIR
+        [--variant NAME FIELD=VALUE [FIELD=VALUE ...]]... [--external POSE_MODEL.onnx] --out DIR
 
-Without ``--variant`` the variants of :data:`VARIANTS` run. Writes ``DIR/decode_variants.json`` and a table
-``DIR/decode_variants.md``. The bundle's own settings are always the first row.
+Without ``--variant`` the variants of :data:`VARIANTS` run. With ``--external`` (a YOLO-pose ONNX model, run
+once per frame) each variant also reports its pose agreement with that model (:mod:`vc.evaluation.agreement`).
+Writes ``DIR/decode_variants.json`` and a table ``DIR/decode_variants.md``. The bundle's own settings are always
+the first row.
 """
 
 from __future__ import annotations
@@ -22,6 +24,8 @@ from tqdm import tqdm
 from vc.deploy.decode import DecodeConfig
 from vc.deploy.frames import FrameRange, FrameSource
 from vc.deploy.runtime import Runtime
+from vc.evaluation.agreement import pose_agreement
+from vc.evaluation.baselines import YoloPoseOnnx
 from vc.evaluation.metrics import ImageResult, evaluate
 from vc.evaluation.misses import analyse_misses, region_lookup
 from vc.evaluation.mot import read_mot_boxes
@@ -46,6 +50,8 @@ def _field_value(name: str, text: str):
     types = {field.name: field.type for field in fields(DecodeConfig)}
     if name not in types:
         raise SystemExit(f"--variant: DecodeConfig has no field {name!r} (it has {', '.join(types)})")
+    if str(types[name]).startswith("Literal"):
+        return text
     if types[name] in (bool, "bool"):
         if text.lower() not in ("true", "false"):
             raise SystemExit(f"--variant: {name} is true or false, not {text!r}")
@@ -71,15 +77,29 @@ def heatmaps_of(runtime: Runtime, source: FrameSource) -> tuple[list[int], list[
     return numbers, maps
 
 
+def reference_poses(model_path: Path, source: FrameSource, truth: dict[int, np.ndarray]) -> list[ImageResult]:
+    """A reference pose model's people on every frame (for the agreement of each variant's keypoints)."""
+    model = YoloPoseOnnx(model_path)
+    images = []
+    for frame in tqdm(source, total=len(source), desc=model_path.name, unit="frame"):
+        detections = model(frame.image)
+        images.append(ImageResult(truth.get(frame.number, np.zeros((0, 4))),
+                                  np.asarray(detections.boxes).reshape(-1, 4),
+                                  np.asarray(detections.scores, np.float64).ravel(), keypoints=detections.keypoints))
+    return images
+
+
 def measure(runtime: Runtime, numbers: list[int], maps: list[list[np.ndarray]], truth: dict[int, np.ndarray],
-            changes: dict) -> dict:
-    """AP50 and the miss analysis's headline numbers with ``changes`` applied to every region's DecodeConfig."""
+            changes: dict, reference: list[ImageResult] | None = None) -> dict:
+    """AP50 and the miss analysis's headline numbers with ``changes`` applied to every region's DecodeConfig, and
+    the keypoints' agreement with ``reference`` when given."""
     images = []
     for number, per_region in zip(numbers, maps, strict=True):
         people = [person for runner, heatmaps in zip(runtime.runners, per_region, strict=True)
                   for person in runner.people_in(heatmaps, replace(runner.entry.decode, **changes))]
         images.append(ImageResult(truth.get(number, np.zeros((0, 4))), np.array([p.box for p in people]).reshape(-1, 4),
-                                  np.array([p.score for p in people])))
+                                  np.array([p.score for p in people]),
+                                  keypoints=np.array([p.keypoints for p in people]).reshape(-1, 17, 3)))
     areas = {runner.entry.name: runner.entry.owned_image_area for runner in runtime.runners}
     misses = analyse_misses(images, numbers, region_lookup(areas))
     result = {"changes": changes, "ap50": round(evaluate(images).ap50, 4)}
@@ -89,12 +109,15 @@ def measure(runtime: Runtime, numbers: list[int], maps: list[list[np.ndarray]], 
                       recall_by_overlap=summary["recall_by_overlap"],
                       false_positive_kinds=misses.false_positive_kinds(),
                       near_miss_width_ratio=(misses.near_miss_errors()["width_ratio"] or {}).get("median"))
+    if reference is not None:
+        result["pose_agreement"] = pose_agreement(images, reference).to_dict()
     return result
 
 
 def _table(results: dict[str, dict]) -> str:
     lines = ["| variant | AP50 | precision | recall | near misses | missed | recall apart | recall overlapping | "
-             "false positives (dup/merged/misplaced/background) | near-miss width ratio |", "|" + "---|" * 10]
+             "false positives (dup/merged/misplaced/background) | near-miss width ratio | pose agreement |",
+             "|" + "---|" * 11]
     for name, r in results.items():
         overlap = r.get("recall_by_overlap", {})
         kinds = r.get("false_positive_kinds", {})
@@ -102,7 +125,8 @@ def _table(results: dict[str, dict]) -> str:
                      f"{r.get('outcomes', {}).get('near miss', '')} | {r.get('outcomes', {}).get('missed', '')} | "
                      f"{overlap.get('apart', {}).get('recall', '')} | "
                      f"{overlap.get('overlapping another', {}).get('recall', '')} | "
-                     f"{'/'.join(str(v) for v in kinds.values())} | {r.get('near_miss_width_ratio', '')} |")
+                     f"{'/'.join(str(v) for v in kinds.values())} | {r.get('near_miss_width_ratio', '')} | "
+                     f"{r.get('pose_agreement', {}).get('overall', '')} |")
     return "\n".join(lines) + "\n"
 
 
@@ -114,19 +138,25 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--frames", type=FrameRange.parse, default=FrameRange(1, 400, 5))
     parser.add_argument("--variant", nargs="+", action="append", metavar="NAME FIELD=VALUE",
                         help="a named variant and the DecodeConfig fields it changes (repeatable)")
+    parser.add_argument("--external", type=Path, help="a YOLO-pose ONNX model: each variant's pose agreement with it")
     parser.add_argument("--out", type=Path, required=True)
     args = parser.parse_args(argv)
     variants = {"bundle as exported": {}, **_parse_variants(args.variant)}
     runtime = Runtime(args.bundle, parallel_regions=False)
     truth = read_mot_boxes(args.gt)
     numbers, maps = heatmaps_of(runtime, FrameSource(args.video, args.frames))
+    reference = (reference_poses(args.external, FrameSource(args.video, args.frames), truth)
+                 if args.external else None)
     results = {}
     for name, changes in variants.items():
-        results[name] = measure(runtime, numbers, maps, truth, changes)
-        print(f"{name:40s} AP50 {results[name]['ap50']:.3f}  recall {results[name].get('recall', 0):.3f}")
+        results[name] = measure(runtime, numbers, maps, truth, changes, reference)
+        agreement = results[name].get("pose_agreement", {}).get("overall")
+        print(f"{name:40s} AP50 {results[name]['ap50']:.3f}  recall {results[name].get('recall', 0):.3f}"
+              + (f"  pose agreement {agreement:.3f}" if agreement is not None else ""))
     args.out.mkdir(parents=True, exist_ok=True)
     write_json(args.out / "decode_variants.json", {"bundle": str(args.bundle), "video": str(args.video),
-                                                   "frames": str(args.frames), "variants": results})
+                                                   "frames": str(args.frames), "reference": str(args.external),
+                                                   "variants": results})
     (args.out / "decode_variants.md").write_text(_table(results))
     print(json.dumps({"written": str(args.out)}))
     return 0

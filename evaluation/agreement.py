@@ -12,6 +12,10 @@ it:
    :data:`AGREEMENT_HEAD_SIZES` head sizes, a head size being 1/8 of the ground-truth box height (PCKh's head
    size in :mod:`vc.evaluation.metrics`).
 3. The share that agrees, per COCO keypoint and overall, is the agreement.
+4. Which of a pair is the left one is a property of the whole figure (which way the person faces), and one
+   wrong call moves all eight pairs. So each person is also compared with their pairs exchanged: the people
+   for whom more keypoints agree exchanged, and the agreement were each person's left and right the reference's
+   (``overall_if_left_right_matched``), say how much of the disagreement is left against right alone.
 
 The reference has errors of its own, and COCO's annotators (whose convention a COCO-trained model learns) mark
 hips and shoulders away from the anatomical joint centres a rendered skeleton has: agreement is not accuracy. A
@@ -26,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from vc.deploy.heatmaps import PAIRS, swap_pairs
 from vc.evaluation.metrics import HEAD_FRACTION_OF_HEIGHT, ImageResult
 from vc.evaluation.misses import operating_point
 from vc.keypoints import COCO_KEYPOINTS
@@ -43,6 +48,8 @@ class PoseAgreement:
     compared: np.ndarray  # (17,) int
     agreeing: np.ndarray  # (17,) int
     people: int
+    left_right_swapped: int = 0  # people for whom more keypoints agree with their pairs exchanged
+    agreeing_if_left_right_matched: np.ndarray | None = None  # (17,) int: each person in the better order
 
     @property
     def overall(self) -> float | None:
@@ -53,12 +60,21 @@ class PoseAgreement:
         return {name: float(agree / compared) if compared else None
                 for name, agree, compared in zip(COCO_KEYPOINTS, self.agreeing, self.compared, strict=True)}
 
+    @property
+    def overall_if_left_right_matched(self) -> float | None:
+        total = int(self.compared.sum())
+        if not total or self.agreeing_if_left_right_matched is None:
+            return None
+        return float(self.agreeing_if_left_right_matched.sum() / total)
+
     def to_dict(self) -> dict:
-        overall = self.overall
+        overall, matched = self.overall, self.overall_if_left_right_matched
         return {"overall": None if overall is None else round(overall, 4), "people": self.people,
                 "keypoints_compared": int(self.compared.sum()),
                 "per_keypoint": {name: None if value is None else round(value, 4)
-                                 for name, value in self.per_keypoint().items()}}
+                                 for name, value in self.per_keypoint().items()},
+                "people_left_right_swapped": self.left_right_swapped,
+                "overall_if_left_right_matched": None if matched is None else round(matched, 4)}
 
 
 def matched_people(images: Sequence[ImageResult]) -> list[dict[int, int]]:
@@ -77,7 +93,8 @@ def pose_agreement(candidate: Sequence[ImageResult], reference: Sequence[ImageRe
         raise ValueError(f"{len(candidate)} frames against {len(reference)}: both must cover the same frames")
     compared = np.zeros(len(COCO_KEYPOINTS), int)
     agreeing = np.zeros(len(COCO_KEYPOINTS), int)
-    people = 0
+    agreeing_matched = np.zeros(len(COCO_KEYPOINTS), int)
+    people = swapped = 0
     for ours, theirs, our_matches, their_matches in zip(candidate, reference, matched_people(candidate),
                                                         matched_people(reference), strict=True):
         for truth in sorted(set(our_matches) & set(their_matches)):
@@ -86,8 +103,14 @@ def pose_agreement(candidate: Sequence[ImageResult], reference: Sequence[ImageRe
             our_keypoints = np.asarray(ours.keypoints[our_matches[truth]], np.float64)
             their_keypoints = np.asarray(theirs.keypoints[their_matches[truth]], np.float64)
             confident = their_keypoints[:, 2] >= REFERENCE_CONFIDENCE
-            distance = np.linalg.norm(our_keypoints[:, :2] - their_keypoints[:, :2], axis=1)
+            agree, agree_exchanged = (
+                confident & (np.linalg.norm(keypoints[:, :2] - their_keypoints[:, :2], axis=1)
+                             <= AGREEMENT_HEAD_SIZES * head)
+                for keypoints in (our_keypoints, swap_pairs(our_keypoints, [True] * len(PAIRS))))
             compared += confident
-            agreeing += confident & (distance <= AGREEMENT_HEAD_SIZES * head)
+            agreeing += agree
+            exchanged_better = agree_exchanged.sum() > agree.sum()
+            agreeing_matched += agree_exchanged if exchanged_better else agree
+            swapped += int(exchanged_better)
             people += 1
-    return PoseAgreement(compared, agreeing, people)
+    return PoseAgreement(compared, agreeing, people, swapped, agreeing_matched)

@@ -2,9 +2,10 @@
 
 A region (DESIGN.md "Regions") has a ground polygon, an image crop window containing every person of the
 allowed heights standing anywhere in that polygon (plus margin), a network input size (the crop resized so
-that people come out at ``target_person_px``), and the image area it owns (where its polygon's foot points
-land). ``auto`` cuts the ground into depth bands inside which the pixel height of a reference person varies
-by at most ``max_height_ratio``; ``single`` is the paper's SPN-G; ``explicit`` takes the polygons as given.
+that people come out at ``target_person_px``, or at the region's own size in ``person_px_by_region``), and the
+image area it owns (where its polygon's foot points land). ``auto`` cuts the ground into depth bands inside
+which the pixel height of a reference person varies by at most ``max_height_ratio``; ``single`` is the paper's
+SPN-G; ``explicit`` takes the polygons as given.
 """
 
 from __future__ import annotations
@@ -276,8 +277,9 @@ def _make_region(name: str, camera: Camera, ground: shapely.Geometry, spec: Regi
     reference_px = (float(np.nanmin(reference)), float(np.nanmax(reference)))
     person_px = (float(np.nanmin(low)), float(np.nanmax(high)))
     crop = crop_window(camera, ground, height_range[1], spec.margin_px, step)
-    # People come out at target_person_px for the band's geometric-mean size; never upscale beyond max_upscale.
-    scale = min(spec.target_person_px / math.sqrt(reference_px[0] * reference_px[1]), spec.max_upscale)
+    # People come out at their target size for the band's geometric-mean size; never upscale beyond max_upscale.
+    target_px = spec.person_px_by_region.get(name, spec.target_person_px)
+    scale = min(target_px / math.sqrt(reference_px[0] * reference_px[1]), spec.max_upscale)
     input_size = (_round_to_multiple(crop.width * scale, spec.input_multiple),
                   _round_to_multiple(crop.height * scale, spec.input_multiple))
     return Region(name, ground, crop, input_size, person_px, reference_px, owned_image_area(camera, ground))
@@ -308,6 +310,10 @@ def plan_regions(scene: Scene) -> list[Region]:
     else:
         bands = _height_bands(camera, domain, spec)
         grounds = [(f"r{index}", band) for index, band in enumerate(bands)]
+    unknown = sorted(set(spec.person_px_by_region) - {name for name, _ in grounds})
+    if unknown:
+        raise InputError(scene.path, f"regions.person_px_by_region.{unknown[0]}",
+                         f"the plan has no region {unknown[0]!r} (it has {', '.join(name for name, _ in grounds)})")
     regions = [_make_region(name, camera, ground, spec, tuple(scene.priors.height_m), step)
                for name, ground in grounds]
     return sorted(regions, key=lambda r: r.reference_px[0]) if spec.mode == "auto" else regions

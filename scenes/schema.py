@@ -196,6 +196,10 @@ class RegionPlanSpec(StrictModel):
     max_height_ratio: float = Field(1.6, gt=1.0)
     reference_height_m: float = Field(1.75, gt=0.5, lt=2.6)
     target_person_px: float = Field(80.0, ge=16)
+    # Per region (by its name: r0, r1, ... far to near under auto), a person size that replaces target_person_px:
+    # where people are big enough to show which way they face, their left and right can be learned (PETS09: at
+    # 48 px not at all, docs/pose.md), at the runtime a larger input costs.
+    person_px_by_region: dict[str, Annotated[float, Field(ge=16)]] = {}
     min_person_px: float = Field(16.0, gt=0)
     max_upscale: float = Field(2.0, ge=1.0)
     margin_px: int = Field(8, ge=0)

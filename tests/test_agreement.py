@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from vc.deploy.heatmaps import PAIRS, swap_pairs
 from vc.evaluation.agreement import pose_agreement
 from vc.evaluation.metrics import ImageResult
 
@@ -42,3 +43,18 @@ def test_nobody_found_by_both_has_no_agreement():
     assert agreement.to_dict()["overall"] is None
     with pytest.raises(ValueError, match="same frames"):
         pose_agreement(candidate, reference * 2)
+
+
+def test_a_person_facing_the_other_way_counts_as_left_and_right_exchanged():
+    reference_keypoints = _keypoints(10.0)
+    for left, right in PAIRS:  # a person facing the camera: their left side on the image's right
+        reference_keypoints[left, 0], reference_keypoints[right, 0] = 16.0, 4.0
+        reference_keypoints[right, 1] = reference_keypoints[left, 1]
+    reference = [ImageResult(TRUTH[:1], TRUTH[:1].copy(), np.array([0.9]), keypoints=reference_keypoints[None])]
+    ours = swap_pairs(reference_keypoints, [True] * len(PAIRS))  # the same points, read as facing away
+    agreement = pose_agreement([ImageResult(TRUTH[:1], TRUTH[:1].copy(), np.array([0.9]), keypoints=ours[None])],
+                               reference)
+    assert agreement.overall == pytest.approx(1 / 17)  # only the nose, which has no pair
+    assert agreement.left_right_swapped == 1 and agreement.overall_if_left_right_matched == 1.0
+    assert pose_agreement(reference, reference).left_right_swapped == 0
+    assert pose_agreement(reference, reference).to_dict()["overall_if_left_right_matched"] == 1.0

@@ -121,3 +121,19 @@ def test_bundled_pets_scene_plans_three_depth_bands(pets_data):
     assert len(regions) == 3
     # People at the far end of the walkable area are smaller than at the near end by more than 2x.
     assert regions[-1].reference_px[1] / regions[0].reference_px[0] > 2.5
+
+
+def test_a_region_may_plan_its_people_at_its_own_size(tmp_path, unit_regions):
+    near = unit_regions[-1].name  # its people are large: 80 px shrinks them, 40 px shrinks them twice as much
+    sized = {"mode": "auto", "target_person_px": 80.0, "person_px_by_region": {near: 40.0}}
+    scene = load_scene(write_scene(tmp_path / "ok", modified(lambda s: s.update(regions=sized))))
+    regions = {region.name: region for region in plan_regions(scene)}
+    before = {region.name: region for region in unit_regions}  # the same scene at 80 px everywhere
+    assert regions[near].crop == before[near].crop  # the same ground and window, resized more
+    assert regions[near].scale[1] == pytest.approx(before[near].scale[1] / 2, rel=0.1)
+    assert all(regions[name].input_size == before[name].input_size for name in regions if name != near)
+    unknown = {**sized, "person_px_by_region": {"nearest": 64.0}}
+    scene = load_scene(write_scene(tmp_path / "bad", modified(lambda s: s.update(regions=unknown))))
+    with pytest.raises(InputError, match="no region 'nearest'") as error:
+        plan_regions(scene)
+    assert error.value.field == "regions.person_px_by_region.nearest"

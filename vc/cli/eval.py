@@ -100,7 +100,10 @@ def report(result: EvaluationReport, output: Path) -> None:
     for reference, by_name in result.agreements.items():
         for name, agreement in by_name.items():
             overall = "n/a" if agreement.overall is None else f"{agreement.overall:.3f}"
-            print(f"  pose agreement with {reference}: {name} {overall} ({agreement.people} people)")
+            matched = agreement.overall_if_left_right_matched
+            print(f"  pose agreement with {reference}: {name} {overall} ({agreement.people} people)"
+                  + ("" if matched is None else f"; left and right the other way round for "
+                                                f"{agreement.left_right_swapped}, {matched:.3f} were they matched"))
 
 
 @handles_input_errors
