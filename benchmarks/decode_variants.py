@@ -50,8 +50,6 @@ def _field_value(name: str, text: str):
     types = {field.name: field.type for field in fields(DecodeConfig)}
     if name not in types:
         raise SystemExit(f"--variant: DecodeConfig has no field {name!r} (it has {', '.join(types)})")
-    if str(types[name]).startswith("Literal"):
-        return text
     if types[name] in (bool, "bool"):
         if text.lower() not in ("true", "false"):
             raise SystemExit(f"--variant: {name} is true or false, not {text!r}")
