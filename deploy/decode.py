@@ -91,6 +91,10 @@ class DecodedPerson:
     keypoints: np.ndarray  # (17, 3): x, y (input px), confidence
     box: np.ndarray  # (4,) x0, y0, x1, y1 — outer edges in input px
     mask_cells: np.ndarray  # (h, w) bool at heat-map resolution
+    # The handedness maps at the centre, one per pair (:data:`vc.deploy.heatmaps.PAIRS`): > 0 where the pair's
+    # image-left member is the left one (the person seen from behind), < 0 the right one (from the front); the
+    # decoder ordered the pairs by their signs. None from a network without handedness maps.
+    pair_handedness: np.ndarray | None = None
 
 
 def _refine_many(heatmaps: np.ndarray, rows: np.ndarray, columns: np.ndarray) -> np.ndarray:
@@ -178,17 +182,19 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     for index, (score, centre_cells) in enumerate(peaks):
         keypoints = (shared_out[index] if shared_out is not None
                      else _keypoints(keypoint_maps, centre_cells, heights_cells[index], config))
+        pair_handedness = None
         if image_ordered:
             row, column = int(round(centre_cells[1])), int(round(centre_cells[0]))
+            pair_handedness = heatmaps[HANDEDNESS_CHANNELS, row, column]
             # A negative handedness: the pair's image-left member is the person's right one.
-            keypoints = swap_pairs(keypoints, heatmaps[HANDEDNESS_CHANNELS, row, column] < 0)
+            keypoints = swap_pairs(keypoints, pair_handedness < 0)
         within_reach = ((np.abs(columns - centre_cells[0]) <= config.reach_sideways * heights_cells[index])
                         & (np.abs(rows - centre_cells[1]) <= config.reach_vertical * heights_cells[index]))
         mask_cells = foreground & (owner == index) & within_reach
         centre = cells_to_input(centre_cells, stride)
         people.append(DecodedPerson(score=score, centre=centre, keypoints=keypoints,
                                     box=_box(centre, heights_px[index], keypoints, mask_cells, config),
-                                    mask_cells=mask_cells))
+                                    mask_cells=mask_cells, pair_handedness=pair_handedness))
     return people
 
 

@@ -35,6 +35,9 @@ class Person:
     keypoints: np.ndarray  # (17, 3) x, y, confidence
     mask: np.ndarray  # (h, w) bool
     mask_origin: tuple[int, int]  # frame pixel (x, y) of mask[0, 0]
+    pair_handedness: np.ndarray | None = None  # (8,) the network's per pair (vc.deploy.decode.DecodedPerson)
+    track: int | None = None  # set by a vc.deploy.tracking.Tracker
+    facing: str = "appearance"  # what ordered the left/right pairs: "appearance" (the network) or "motion"
 
     def frame_mask(self, frame_size: tuple[int, int]) -> np.ndarray:
         """The mask as an (H, W) bool array over a frame of ``frame_size`` (width, height)."""
@@ -50,7 +53,14 @@ class Person:
                 "box": [round(float(v), 2) for v in self.box],
                 "keypoints": [[round(float(x), 2), round(float(y), 2), round(float(c), 4)]
                               for x, y, c in self.keypoints],
-                "mask_area_px": int(self.mask.sum())}
+                "mask_area_px": int(self.mask.sum()), "handedness": round(self.handedness, 4),
+                "facing": self.facing, **({"track": self.track} if self.track is not None else {})}
+
+    @property
+    def handedness(self) -> float:
+        """The network's handedness averaged over the pairs: > 0 seen from behind, < 0 from the front; its size
+        is the network's confidence (0 without handedness maps)."""
+        return 0.0 if self.pair_handedness is None else float(np.mean(self.pair_handedness))
 
 
 def _inside(points: np.ndarray, ring: np.ndarray) -> np.ndarray:
@@ -122,7 +132,7 @@ class RegionRunner:
         keypoints = person.keypoints.copy()
         keypoints[:, :2] = self.to_frame(keypoints[:, :2])
         mask, origin = self._frame_mask(person.mask_cells)
-        return Person(self.entry.name, person.score, box, keypoints, mask, origin)
+        return Person(self.entry.name, person.score, box, keypoints, mask, origin, person.pair_handedness)
 
     def _frame_mask(self, mask_cells: np.ndarray) -> tuple[np.ndarray, tuple[int, int]]:
         """Cells -> frame pixels over the mask's bounding rectangle: each frame pixel of the crop takes the cell

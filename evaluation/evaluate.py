@@ -2,6 +2,11 @@
 photos (OpenCV's HOG, YOLO-pose style ONNX models), with the bundle's miss analysis and its pose agreement with
 the first external pose model. What ``vc-eval`` runs and what the benchmarks call.
 
+With a video (or a folder of frames and its frame rate) the bundle runs on every frame from the first selected
+to the last, as an appliance would, and its people are tracked (:mod:`vc.deploy.tracking`): their walking
+direction decides which way they face where the network cannot tell. The pose agreement is then reported with
+and without it. Only the selected frames are scored and timed.
+
 Writes into ``output`` (complete or not at all): ``metrics.json`` (AP50, milliseconds per frame, and for the bundle
 its operating point and recall by person height, group and region), ``precision_recall.png``,
 ``contact_sheet.png`` (frames with the bundle's people in colour and the ground truth in white),
@@ -13,7 +18,7 @@ from __future__ import annotations
 
 import json
 import time
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import cv2
@@ -22,6 +27,7 @@ from tqdm import tqdm
 
 from vc.deploy.frames import FrameRange, FrameSource
 from vc.deploy.runtime import Person, Runtime
+from vc.deploy.tracking import Tracker, TrackingConfig, tracking_rate
 from vc.errors import InputError
 from vc.evaluation.agreement import AGREEMENT_HEAD_SIZES, REFERENCE_CONFIDENCE, PoseAgreement, pose_agreement
 from vc.evaluation.baselines import Detections, HogPeopleDetector, YoloPoseOnnx
@@ -33,6 +39,8 @@ from vc.evaluation.plots import plot_miss_analysis, plot_pose_agreement, plot_pr
 from vc.io import atomic_directory, write_image, write_json
 
 OURS = "visual compiler"
+#: The bundle's keypoints before tracking: its pose agreement beside the tracked one says what motion adds.
+OURS_APPEARANCE_ONLY = f"{OURS}, facing from appearance only"
 SHEET_FRAMES = 8
 HOG_UPSCALE = 2.0  # HOG's smallest window is 128 px tall: PETS09's people are 50-100 px
 
@@ -57,6 +65,10 @@ class EvaluationRequest:
     externals: tuple[ExternalModel, ...] = ()  # the first with keypoints is the pose reference
     external_size: int | None = None  # their square input size (if dynamic)
     threads: int | None = None  # per detector; None: all cores
+    # People tracked over every frame between the first and last selected (an appliance sees every frame), their
+    # walking direction deciding which way they face (vc.deploy.tracking); None: each frame on its own.
+    tracking: TrackingConfig | None = TrackingConfig()
+    fps: float | None = None  # of a folder of frames (a video's is read from it); without it a folder is not tracked
 
 
 @dataclass
@@ -76,10 +88,13 @@ class _Record:
     images: list[ImageResult] = field(default_factory=list)
     milliseconds: list[float] = field(default_factory=list)
 
+    @staticmethod
+    def image(truth: np.ndarray, detections: Detections) -> ImageResult:
+        return ImageResult(truth_boxes=truth, boxes=np.asarray(detections.boxes).reshape(-1, 4),
+                           scores=np.asarray(detections.scores, np.float64).ravel(), keypoints=detections.keypoints)
+
     def add(self, truth: np.ndarray, detections: Detections, seconds: float) -> None:
-        self.images.append(ImageResult(truth_boxes=truth, boxes=np.asarray(detections.boxes).reshape(-1, 4),
-                                       scores=np.asarray(detections.scores, np.float64).ravel(),
-                                       keypoints=detections.keypoints))
+        self.images.append(self.image(truth, detections))
         self.milliseconds.append(seconds * 1e3)
 
     def summary(self, evaluation: Evaluation) -> dict:
@@ -111,15 +126,24 @@ def _check_selection(source: FrameSource, truth: dict[int, np.ndarray], gt_path:
                                             f"({last_annotated}); select with --frames first:{last_annotated}:step")
 
 
-def _pose_agreements(records: dict[str, _Record], others: list[str]) -> dict[str, dict[str, PoseAgreement]]:
-    """{reference: {detector: agreement}}: the bundle and every other pose model against the first external pose
-    model (none without one)."""
+def _pose_agreements(records: dict[str, _Record], others: list[str],
+                     appearance_only: list[ImageResult] | None) -> dict[str, dict[str, PoseAgreement]]:
+    """{reference: {detector: agreement}}: the bundle (and, when tracked, its keypoints before tracking) and every
+    other pose model against the first external pose model (none without one)."""
     with_pose = [name for name in others if any(image.keypoints is not None for image in records[name].images)]
     if not with_pose:
         return {}
     reference = with_pose[0]
-    return {reference: {name: pose_agreement(records[name].images, records[reference].images)
-                        for name in [OURS, *with_pose[1:]]}}
+    agreements = {name: pose_agreement(records[name].images, records[reference].images)
+                  for name in [OURS, *with_pose[1:]]}
+    if appearance_only is not None:
+        agreements[OURS_APPEARANCE_ONLY] = pose_agreement(appearance_only, records[reference].images)
+    return {reference: agreements}
+
+
+def _detections(people: list[Person]) -> Detections:
+    return Detections(np.array([p.box for p in people]).reshape(-1, 4), np.array([p.score for p in people]),
+                      np.array([p.keypoints for p in people]).reshape(-1, 17, 3))
 
 
 def _write_miss_analysis(folder: Path, misses: MissAnalysis, video: Path, frames: FrameRange,
@@ -149,41 +173,55 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
             cv2.setNumThreads(request.threads)
         others = _detectors(request)
         records = {OURS: _Record(), **{name: _Record() for name in others}}
+        rate = tracking_rate(source, request.fps) if request.tracking is not None else None
+        tracker = Tracker(request.tracking) if rate else None
+        appearance_only: list[ImageResult] | None = [] if tracker else None
         sheet_numbers = set(np.linspace(0, source.count - 1, min(SHEET_FRAMES, source.count)).round().astype(int))
         sheet, lines, people_by_frame = [], [], {}
         width, height = runtime.bundle.frame_size
-        for index, frame in enumerate(tqdm(source, total=len(source), desc="vc-eval", unit="frame",
-                                           disable=not show_progress)):
+        # A tracker sees every frame from the first selected to the last; only the selected ones are scored.
+        seen = (FrameSource(request.video, FrameRange(frames.first, frames.last or max(truth), 1)) if tracker
+                else source)
+        progress = tqdm(total=len(source), desc="vc-eval", unit="frame", disable=not show_progress)
+        for frame in seen:
             if frame.image.shape != (height, width, 3):
                 raise InputError(request.video, f"frame {frame.number}",
                                  f"is {frame.image.shape[1]}x{frame.image.shape[0]}, the bundle's camera is "
                                  f"{width}x{height}")
-            boxes_truth = truth.get(frame.number, np.zeros((0, 4)))
+            scored = frame.number in frames
             start = time.perf_counter()
             people: list[Person] = runtime(frame.image)
+            tracked = tracker.update(people, frame.number / rate) if tracker else people
             seconds = time.perf_counter() - start
-            records[OURS].add(boxes_truth, Detections(np.array([p.box for p in people]).reshape(-1, 4),
-                                                      np.array([p.score for p in people]),
-                                                      np.array([p.keypoints for p in people]).reshape(-1, 17, 3)),
-                              seconds)
-            lines.append({"frame": frame.number, "people": [person.to_dict() for person in people]})
-            people_by_frame[frame.number] = people
+            if not scored:
+                continue
+            boxes_truth = truth.get(frame.number, np.zeros((0, 4)))
+            records[OURS].add(boxes_truth, _detections(tracked), seconds)
+            if appearance_only is not None:
+                appearance_only.append(_Record.image(boxes_truth, _detections(people)))
+            lines.append({"frame": frame.number, "people": [person.to_dict() for person in tracked]})
+            people_by_frame[frame.number] = tracked
             for name, detector in others.items():
                 start = time.perf_counter()
                 detections = detector(frame.image)
                 records[name].add(boxes_truth, detections, time.perf_counter() - start)
-            if index in sheet_numbers:
-                sheet.append(draw_people(frame.image, people, truth_boxes=boxes_truth))
+            if len(people_by_frame) - 1 in sheet_numbers:
+                sheet.append(draw_people(frame.image, tracked, truth_boxes=boxes_truth))
+            progress.update()
+        progress.close()
         bundle = runtime.bundle
     evaluations = {name: evaluate(record.images) for name, record in records.items()}
     areas = {entry.name: entry.owned_image_area for entry in bundle.regions}
     misses = analyse_misses(records[OURS].images, list(people_by_frame), region_lookup(areas))
-    agreements = _pose_agreements(records, list(others))
+    agreements = _pose_agreements(records, list(others), appearance_only)
     metrics = {
         "bundle": str(request.bundle), "scene": bundle.manifest["scene"], "video": str(request.video),
         "ground_truth": str(request.ground_truth), "frames": {"first": frames.first, "last": frames.last,
                                                              "step": frames.step, "count": source.count},
         "threads": request.threads, "iou_threshold": 0.5,
+        "tracking": ({"fps": rate, "config": asdict(request.tracking)} if tracker else
+                     {"off": "--no-tracking" if request.tracking is None else
+                      "the frames' times are unknown (a folder of frames: give --fps)"}),
         "detectors": {name: record.summary(evaluations[name]) for name, record in records.items()},
         "operating_point": misses.summary() if misses is not None else {},
         **({"pose_agreement": {"reference": next(iter(agreements)), "reference_confidence": REFERENCE_CONFIDENCE,

@@ -55,3 +55,13 @@ def read_mot_world(path: Path) -> tuple[np.ndarray, np.ndarray]:
         boxes.append(_box(path, number, values))
         ground.append(values[7:9])
     return np.array(boxes).reshape(-1, 4), np.array(ground).reshape(-1, 2)
+
+
+def read_mot_tracks(path: Path) -> dict[int, dict[int, np.ndarray]]:
+    """Person id -> {frame number -> box (4,)}: the ground truth's tracks (column 2 is the person's id)."""
+    tracks: dict[int, dict[int, np.ndarray]] = {}
+    for number, values in _rows(path, 6, "frame,id,left,top,width,height,..."):
+        tracks.setdefault(int(values[1]), {})[int(values[0])] = np.array(_box(path, number, values))
+    if not tracks:
+        raise InputError(path, "", "holds no boxes")
+    return tracks

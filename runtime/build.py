@@ -32,6 +32,7 @@ RUNTIME_MODULES = {
     "deploy/heatmaps.py": "vc/deploy/heatmaps.py",
     "deploy/runtime.py": "vc/deploy/runtime.py",
     "deploy/signing.py": "vc/deploy/signing.py",
+    "deploy/tracking.py": "vc/deploy/tracking.py",
 }
 
 

@@ -107,13 +107,34 @@ def test_vc_eval_scores_every_detector_and_draws_the_result(bundle, tmp_path):
     assert set(detectors) == {"visual compiler", "HOG (OpenCV, real photos)", "yolo", "yolo again"}
     assert detectors["yolo"]["ap50"] == 1.0 and detectors["yolo"]["ground_truth"] == 3
     assert all(0.0 <= d["ap50"] <= 1.0 and d["ms_per_frame"]["median"] > 0 for d in detectors.values())
+    # The video is tracked at its own rate, and the bundle's pose is reported with and without the facing that
+    # tracking decides.
+    assert metrics["tracking"]["fps"] == 10 and metrics["tracking"]["config"]["window_s"] > 0
     # The bundle's pose and the second model's against the first: a model agrees with itself everywhere.
     agreement = metrics["pose_agreement"]
-    assert agreement["reference"] == "yolo" and set(agreement["agreement"]) == {"visual compiler", "yolo again"}
+    assert agreement["reference"] == "yolo" and set(agreement["agreement"]) == {
+        "visual compiler", "visual compiler, facing from appearance only", "yolo again"}
     assert agreement["agreement"]["yolo again"]["overall"] == 1.0
     assert agreement["agreement"]["yolo again"]["people"] == 3
     for name in ("precision_recall.png", "contact_sheet.png", "detections.jsonl", "pose_agreement.png"):
         assert (output / name).stat().st_size > 0
+
+
+def test_vc_eval_tracks_over_every_frame_of_the_span_and_scores_the_selected(bundle, tmp_path):
+    video, truth = _video_and_truth(tmp_path, frames=6)
+    tracked, alone = tmp_path / "tracked", tmp_path / "alone"
+    for output, extra in ((tracked, []), (alone, ["--no-tracking"])):
+        assert vc_eval([str(bundle), "--video", str(video), "--gt", str(truth), "-o", str(output), "--threads", "1",
+                        "--frames", "1:5:2", "--no-hog", "--quiet", *extra]) == 0
+    metrics = [json.loads((output / "metrics.json").read_text()) for output in (tracked, alone)]
+    assert [m["frames"]["count"] for m in metrics] == [3, 3]
+    assert metrics[1]["tracking"] == {"off": "--no-tracking"} and metrics[0]["tracking"]["fps"] == 10
+    lines = [[json.loads(line) for line in (output / "detections.jsonl").read_text().splitlines()]
+             for output in (tracked, alone)]
+    assert [line["frame"] for line in lines[0]] == [line["frame"] for line in lines[1]] == [1, 3, 5]
+    # The same boxes: tracking only numbers people and orders their pairs.
+    for with_tracks, without in zip(lines[0], lines[1], strict=True):
+        assert [p["box"] for p in with_tracks["people"]] == [p["box"] for p in without["people"]]
 
 
 def test_vc_eval_refuses_frames_past_the_ground_truth(bundle, tmp_path, capsys):

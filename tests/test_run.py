@@ -85,6 +85,11 @@ def test_vc_run_writes_one_line_per_frame_and_overlays(bundle, tmp_path):
     summary = json.loads((output / "summary.json").read_text())
     assert summary["frames"] == 3 and summary["people"] == sum(len(line["people"]) for line in lines)
     assert sorted(path.name for path in (output / "overlays").iterdir()) == ["f00.png", "f01.png", "f02.png"]
+    # A folder of frames has no time: not tracked unless its rate is given.
+    assert summary["tracking"] is None and not any("track" in p for line in lines for p in line["people"])
+    tracked = tmp_path / "tracked"
+    assert vc_run([str(bundle), str(folder), "-o", str(tracked), "--fps", "5", "--threads", "1", "--quiet"]) == 0
+    assert json.loads((tracked / "summary.json").read_text())["tracking"]["fps"] == 5
 
 
 def test_vc_run_on_a_video_writes_an_overlay_video(bundle, tmp_path):

@@ -32,12 +32,15 @@ RUN_A_BUNDLE = """
 import json, sys
 import numpy as np
 from vc.deploy.runtime import Runtime
+from vc.deploy.tracking import Tracker
 from vc.errors import InputError
 from vc.deploy.frames import FrameSource
 
+tracker = Tracker()
 with Runtime(sys.argv[1], threads=1) as runtime:
     width, height = runtime.bundle.frame_size
-    people = runtime(np.full((height, width, 3), 128, np.uint8))
+    for time_s in (0.0, 0.1):
+        people = tracker.update(runtime(np.full((height, width, 3), 128, np.uint8)), time_s)
 try:
     next(iter(FrameSource(sys.argv[2])))
     frames_error = None

@@ -1,11 +1,14 @@
 """``vc-eval``: a bundle on real video frames against ground-truth boxes, beside detectors trained on real photos.
 
     vc-eval BUNDLE --video V --gt GT.txt -o OUT [--frames first:last:step] [--no-hog] [--hog-upscale F]
-            [--external MODEL.onnx [--external-name NAME]]... [--external-size S] [--threads N] [--quiet]
+            [--external MODEL.onnx [--external-name NAME]]... [--external-size S] [--threads N]
+            [--fps F] [--no-tracking] [--quiet]
 
 For every selected frame each detector runs and is timed: the bundle (through :mod:`vc.deploy.runtime`, as the
 appliance runs it), OpenCV's HOG people detector, and optionally any YOLO-pose style ONNX model
-(:mod:`vc.evaluation.evaluate`). Writes
+(:mod:`vc.evaluation.evaluate`). The bundle's people are tracked over every frame of the selected span (a
+video's frame rate is read from it; give ``--fps`` for a folder of frames), and their walking direction decides
+which way they face where the network cannot tell (:mod:`vc.deploy.tracking`). Writes
 ``OUT/metrics.json`` (AP50, milliseconds per frame, and for the bundle its operating point and recall by person
 height, group and region), ``OUT/precision_recall.png``, ``OUT/contact_sheet.png`` (frames with the bundle's people
 in colour and the ground truth in white), ``OUT/detections.jsonl``, and the bundle's miss analysis
@@ -23,8 +26,9 @@ import argparse
 from pathlib import Path
 
 from vc import __version__
-from vc.cli.common import handles_input_errors, positive_int
+from vc.cli.common import handles_input_errors, positive_float, positive_int
 from vc.deploy.frames import FrameRange
+from vc.deploy.tracking import TrackingConfig
 from vc.errors import InputError
 from vc.evaluation.evaluate import (
     HOG_UPSCALE,
@@ -56,6 +60,11 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--external-name", action="append", default=[],
                         help="a label per --external, in order (default: the file name and input size)")
     parser.add_argument("--threads", type=positive_int, default=None, help="threads per detector (default: all)")
+    parser.add_argument("--fps", type=positive_float, default=None,
+                        help="the input's frames per second, for tracking (default: a video's own rate; a folder of "
+                             "frames is tracked only when given)")
+    parser.add_argument("--no-tracking", action="store_true",
+                        help="each frame on its own: no tracks, facing from appearance only")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     return parser
 
@@ -68,7 +77,8 @@ def _request(args: argparse.Namespace) -> EvaluationRequest:
                              frames=args.frames, hog=not args.no_hog, hog_upscale=args.hog_upscale,
                              externals=tuple(ExternalModel(path, name) for path, name in zip(args.external, names,
                                                                                            strict=True)),
-                             external_size=args.external_size, threads=args.threads)
+                             external_size=args.external_size, threads=args.threads,
+                             tracking=None if args.no_tracking else TrackingConfig(), fps=args.fps)
 
 
 def _rates(rates: dict) -> str:
@@ -97,6 +107,8 @@ def report(result: EvaluationReport, output: Path) -> None:
         print(f"  {name:32s} AP50 {summary['ap50']:.3f}   {summary['ms_per_frame']['median']:8.1f} ms/frame")
     if result.misses is not None:
         print(_miss_summary(result.misses))
+    tracking = result.metrics["tracking"]
+    print(f"  tracked at {tracking['fps']:g} frames/s" if "fps" in tracking else f"  not tracked: {tracking['off']}")
     for reference, by_name in result.agreements.items():
         for name, agreement in by_name.items():
             overall = "n/a" if agreement.overall is None else f"{agreement.overall:.3f}"

@@ -1,10 +1,11 @@
 """``vc-run``: a bundle on real frames, as an appliance would run it.
 
     vc-run BUNDLE INPUT -o OUT [--frames first:last:step] [--overlay] [--threads N] [--[no-]parallel-regions]
-           [--public-key KEY.pub] [--quiet]
+           [--fps F] [--no-tracking] [--public-key KEY.pub] [--quiet]
 
 INPUT is an image, a folder of images or a video file. Writes ``OUT/detections.jsonl`` (one line per frame: its
-number, name and people with box, score, 17 keypoints with confidences and mask area), ``OUT/summary.json``
+number, name and people with box, score, 17 keypoints with confidences, mask area, the network's handedness, the
+track and what decided which way the person faces), ``OUT/summary.json``
 (frames, people, milliseconds per frame) and with ``--overlay`` the frames drawn with their detections
 (``OUT/overlay.mp4`` for a video, ``OUT/overlays/<name>.png`` otherwise). OUT appears complete or not at all. Bad
 input (a damaged bundle, an unreadable or empty video, frames of another size than the bundle's camera) prints
@@ -16,6 +17,7 @@ from __future__ import annotations
 import argparse
 import json
 import time
+from dataclasses import asdict
 from pathlib import Path
 
 import cv2
@@ -23,9 +25,10 @@ import numpy as np
 from tqdm import tqdm
 
 from vc import __version__
-from vc.cli.common import handles_input_errors, positive_int
+from vc.cli.common import handles_input_errors, positive_float, positive_int
 from vc.deploy.frames import Frame, FrameRange, FrameSource
 from vc.deploy.runtime import Runtime
+from vc.deploy.tracking import Tracker, tracking_rate
 from vc.errors import InputError
 from vc.evaluation.draw import draw_people
 from vc.io import atomic_directory, write_image, write_json
@@ -47,6 +50,12 @@ def _parser() -> argparse.ArgumentParser:
                         help="run the bundle only if its manifest is signed by this Ed25519 public key (PEM)")
     parser.add_argument("--parallel-regions", action=argparse.BooleanOptionalAction, default=None,
                         help="run the regions at once, one thread each (default: when there are several)")
+    parser.add_argument("--fps", type=positive_float, default=None,
+                        help="the input's frames per second (default: a video's own rate; a folder of frames is "
+                             "tracked only when given): people are tracked, and their walking direction decides "
+                             "which way they face (vc.deploy.tracking)")
+    parser.add_argument("--no-tracking", action="store_true",
+                        help="each frame on its own: no tracks, facing from appearance only")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     return parser
 
@@ -80,6 +89,8 @@ def main(argv: list[str] | None = None) -> int:
     with Runtime(args.bundle, threads=args.threads, parallel_regions=args.parallel_regions,
                  public_key=args.public_key) as runtime:
         source = FrameSource(args.input, args.frames)
+        rate = None if args.no_tracking else tracking_rate(source, args.fps)
+        tracker = Tracker() if rate else None
         width, height = runtime.bundle.frame_size
         milliseconds, people_count = [], 0
         with atomic_directory(args.output) as staging, open(staging / DETECTIONS, "w") as lines:
@@ -92,6 +103,8 @@ def main(argv: list[str] | None = None) -> int:
                                          f"{width}x{height}")
                     start = time.perf_counter()
                     people = runtime(frame.image)
+                    if tracker is not None:
+                        people = tracker.update(people, frame.number / rate)
                     milliseconds.append((time.perf_counter() - start) * 1e3)
                     people_count += len(people)
                     lines.write(json.dumps({"frame": frame.number, "name": frame.name,
@@ -106,6 +119,7 @@ def main(argv: list[str] | None = None) -> int:
                 "input_kind": source.kind, "frames": len(milliseconds), "people": people_count,
                 "regions": [{"name": r.name, "precision": r.precision} for r in runtime.bundle.regions],
                 "threads": args.threads, "parallel_regions": runtime.pool is not None,
+                "tracking": {"fps": rate, "config": asdict(tracker.config)} if tracker else None,
                 "ms_per_frame": {"mean": float(np.mean(milliseconds)), "median": float(np.median(milliseconds)),
                                  "p90": float(np.percentile(milliseconds, 90))},
             }

@@ -1,0 +1,177 @@
+"""People over time: tracks, and which way each person faces from the way they walk (numpy only).
+
+Why: which member of a left/right pair is the person's left depends on which way they face. A network reads
+it from appearance (:mod:`vc.deploy.heatmaps`' handedness maps), and where people are small it often cannot: on
+PETS09 (people ~50 px tall) the bundles read 45 % of real people facing the wrong way (docs/pose.md). A walking
+person faces where they walk, and the camera's geometry turns the direction of walking into facing without
+knowing the camera:
+
+* The vertical plane through the camera centre and a person's feet projects onto the person's own image axis
+  (the line from feet to head). The part of their ground velocity along the viewing direction therefore moves
+  the feet along that axis; the rest moves them across it.
+* A camera above the ground sees farther ground higher in the image. Feet moving up the image walk away from the
+  camera: the person is seen from behind, their left on the image's left (handedness > 0). Feet moving down
+  walk toward it: seen from the front (handedness < 0).
+
+People are upright in the views this project compiles (the decoder's prior assumes it), so the image axis is
+taken as the image vertical. Checked on ground-truth tracks (benchmarks/results/pose_facing_motion.md): the sign
+of the vertical foot motion agrees with YOLO11n-pose's reading of the shoulders for 91 % (PETS09) and 89 %
+(TUD-Stadtmitte) of the people whose facing it can read.
+
+1. Association: each person goes to the live track whose last foot point (box bottom centre, frame pixels) is
+   nearest, in units of the person's box height, if within ``gate_heights + max_speed_heights_per_s * dt``;
+   pairs are taken nearest first, each person and track once. A person without a track starts one. A track not
+   seen for ``max_gap_s`` ends.
+2. Motion: the least-squares speed of the track's foot height in the image over its last ``window_s`` seconds
+   (in person heights per second) and its standard error (the fit's residuals, floored at
+   ``foot_jitter_heights``).
+3. Facing: the motion's sign where the speed is at least ``min_significance`` standard errors from zero. Where
+   it is less clear, still the motion's sign unless the network is confident (``|handedness| >= trust_network``):
+   a network hedging near zero (people too small for it to see which way they face; PETS09) is no better than a
+   weak motion, while one that learned facing (TUD-Stadtmitte's larger people) is right more often than an
+   unclear motion. A track of fewer than ``min_observations`` in the window, or no motion at all, leaves the
+   network's order.
+4. A person whose facing came from motion gets each left/right pair put in the image order that facing implies.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from vc.deploy.frames import FrameSource
+from vc.deploy.heatmaps import PAIRS, swap_pairs
+from vc.deploy.runtime import Person
+
+
+@dataclass(frozen=True)
+class TrackingConfig:
+    """How people are followed and when their motion decides which way they face (see the module docstring).
+    Lengths are in the person's box heights, times in seconds."""
+
+    gate_heights: float = 0.15  # detection jitter allowed between two frames, whatever their distance in time
+    max_speed_heights_per_s: float = 1.5  # a brisk walk (2.5 m/s) for a 1.7 m person
+    max_gap_s: float = 1.0  # a track unseen this long ends
+    window_s: float = 1.0  # the motion of the last second decides the facing
+    min_observations: int = 4
+    foot_jitter_heights: float = 0.02  # the least noise assumed on a foot point
+    min_significance: float = 2.0  # speed / its standard error
+    trust_network: float = 0.3  # where the motion is not clear, a network this confident keeps its facing
+
+
+@dataclass
+class _Track:
+    identity: int
+    times: list[float] = field(default_factory=list)
+    feet: list[np.ndarray] = field(default_factory=list)  # (x, y) frame px
+    heights: list[float] = field(default_factory=list)  # box height px
+
+    def add(self, time_s: float, foot: np.ndarray, height: float) -> None:
+        self.times.append(time_s)
+        self.feet.append(foot)
+        self.heights.append(height)
+
+
+def tracking_rate(source: FrameSource, fps: float | None) -> float | None:
+    """Frames per second to track ``source``'s frames at: ``fps`` where given, else a video's own rate; None (no
+    tracking) for a folder of frames without ``fps`` or a single image, whose times are unknown."""
+    if fps is not None:
+        return fps
+    return source.fps if source.kind == "video" else None
+
+
+def foot_points(people: list[Person]) -> np.ndarray:
+    """(N, 2) box bottom centres, frame px."""
+    return np.array([[(p.box[0] + p.box[2]) / 2, p.box[3]] for p in people]).reshape(-1, 2)
+
+
+def vertical_speed(times: np.ndarray, foot_y: np.ndarray, height: float, jitter_heights: float
+                   ) -> tuple[float, float]:
+    """Least-squares speed of the foot point down the image (person heights per second; > 0: toward the camera)
+    and its standard error, the residuals' variance floored at ``jitter_heights`` squared (step 2)."""
+    t = times - times.mean()
+    y = foot_y / height
+    spread = float(t @ t)
+    if len(t) < 3 or spread <= 0.0:
+        return 0.0, float("inf")
+    slope = float(t @ (y - y.mean()) / spread)
+    residuals = y - y.mean() - slope * t
+    variance = max(float(residuals @ residuals) / (len(t) - 2), jitter_heights**2)
+    return slope, float(np.sqrt(variance / spread))
+
+
+def facing_pairs(person: Person, seen_from_behind: bool) -> np.ndarray:
+    """The person's keypoints (17, 3) with each left/right pair ordered as a facing implies: the network's
+    image-left member is the left one for a person seen from behind, the right one for a person seen from the
+    front. The decoder ordered pair k by the sign of ``pair_handedness[k]``; a pair whose sign disagrees is
+    exchanged. Without handedness maps (pairs decoded in anatomical order) the members' x order stands in for the
+    network's image order."""
+    if person.pair_handedness is not None:
+        return swap_pairs(person.keypoints, (person.pair_handedness >= 0) != seen_from_behind)
+    image_left_first = [person.keypoints[left, 0] <= person.keypoints[right, 0] for left, right in PAIRS]
+    return swap_pairs(person.keypoints, np.array(image_left_first) != seen_from_behind)
+
+
+class Tracker:
+    """``tracker.update(people, time_s)`` -> the same people with ``track`` set and, where their motion tells
+    which way they face, their pairs ordered by it (``facing == "motion"``). Feed frames in time order."""
+
+    def __init__(self, config: TrackingConfig = TrackingConfig()) -> None:
+        self.config = config
+        self.tracks: list[_Track] = []
+        self.next_identity = 1
+        self.last_time: float | None = None
+
+    def update(self, people: list[Person], time_s: float) -> list[Person]:
+        if self.last_time is not None and time_s <= self.last_time:
+            raise ValueError(f"frames must come in time order: {time_s} s after {self.last_time} s")
+        self.last_time = time_s
+        config = self.config
+        self.tracks = [t for t in self.tracks if time_s - t.times[-1] <= config.max_gap_s]
+        feet = foot_points(people)
+        heights = np.array([max(p.box[3] - p.box[1], 1.0) for p in people])
+        tracks = self._associate(feet, heights, time_s)
+        result = []
+        for person, track, foot, height in zip(people, tracks, feet, heights, strict=True):
+            track.add(time_s, foot, float(height))
+            result.append(self._faced(replace(person, track=track.identity), track))
+        return result
+
+    def _associate(self, feet: np.ndarray, heights: np.ndarray, time_s: float) -> list[_Track]:
+        """Step 1: each person's track, new ones started."""
+        candidates = []
+        for i, (foot, height) in enumerate(zip(feet, heights, strict=True)):
+            for j, track in enumerate(self.tracks):
+                distance = float(np.hypot(*(foot - track.feet[-1]))) / height
+                gate = self.config.gate_heights + self.config.max_speed_heights_per_s * (time_s - track.times[-1])
+                if distance <= gate:
+                    candidates.append((distance, i, j))
+        assigned: dict[int, _Track] = {}
+        taken: set[int] = set()
+        for _, i, j in sorted(candidates):
+            if i not in assigned and j not in taken:
+                assigned[i] = self.tracks[j]
+                taken.add(j)
+        result = []
+        for i in range(len(feet)):
+            if i not in assigned:
+                assigned[i] = _Track(self.next_identity)
+                self.next_identity += 1
+                self.tracks.append(assigned[i])
+            result.append(assigned[i])
+        return result
+
+    def _faced(self, person: Person, track: _Track) -> Person:
+        """Steps 2-4 for one person whose track now ends with this frame."""
+        config = self.config
+        times = np.array(track.times)
+        recent = times >= times[-1] - config.window_s
+        if recent.sum() < config.min_observations:
+            return person
+        speed, error = vertical_speed(times[recent], np.array(track.feet)[recent, 1],
+                                      float(np.mean(np.array(track.heights)[recent])), config.foot_jitter_heights)
+        clear = abs(speed) >= config.min_significance * error
+        if speed == 0.0 or not (clear or abs(person.handedness) < config.trust_network):
+            return person
+        return replace(person, keypoints=facing_pairs(person, seen_from_behind=speed < 0), facing="motion")

@@ -1,0 +1,122 @@
+"""Tracking and facing from motion (vc.deploy.tracking): people keep their track, and the way they walk decides
+which of each left/right pair is the left one where the network cannot tell."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from vc.deploy.heatmaps import PAIRS
+from vc.deploy.runtime import Person
+from vc.deploy.tracking import Tracker, TrackingConfig, facing_pairs, vertical_speed
+from vc.keypoints import COCO_KEYPOINTS
+
+HEIGHT = 100.0
+LEFT_SHOULDER, RIGHT_SHOULDER = COCO_KEYPOINTS.index("left_shoulder"), COCO_KEYPOINTS.index("right_shoulder")
+
+
+def _person(x: float, feet_y: float, handedness: float) -> Person:
+    """A person whose network read them as seen from the front (``handedness`` < 0: the image-left member of each
+    pair decoded as the right one) or from behind (> 0), with the decoded pairs accordingly: left members at x + 10
+    for a front view, at x - 10 for a back view."""
+    keypoints = np.zeros((17, 3))
+    keypoints[:, 0], keypoints[:, 1], keypoints[:, 2] = x, feet_y - HEIGHT / 2, 0.9
+    side = -10.0 if handedness >= 0 else 10.0
+    for left, right in PAIRS:
+        keypoints[left, 0], keypoints[right, 0] = x + side, x - side
+    return Person("r", 0.9, np.array([x - 20, feet_y - HEIGHT, x + 20, feet_y]), keypoints, np.zeros((0, 0), bool),
+                  (0, 0), np.full(len(PAIRS), handedness))
+
+
+def _walk(tracker: Tracker, speed_px_per_s: float, handedness: float, frames: int = 10, fps: float = 10.0,
+          x: float = 300.0, jitter: float = 0.0, seed: int = 0) -> list[Person]:
+    """One person walking down the image at ``speed_px_per_s`` (negative: up), one frame at a time."""
+    noise = np.random.default_rng(seed).normal(0.0, jitter, frames)
+    return [tracker.update([_person(x, 300.0 + speed_px_per_s * k / fps + noise[k], handedness)], k / fps)[0]
+            for k in range(frames)]
+
+
+def _seen_from_behind(person: Person) -> bool:
+    return person.keypoints[LEFT_SHOULDER, 0] < person.keypoints[RIGHT_SHOULDER, 0]
+
+
+def test_the_speed_of_a_straight_walk_is_exact_and_its_error_floored_by_the_jitter():
+    times = np.arange(8) / 10.0
+    speed, error = vertical_speed(times, 200.0 - 50.0 * times, HEIGHT, jitter_heights=0.02)
+    assert speed == pytest.approx(-0.5)  # 50 px/s up the image, 100 px tall: half a height per second
+    assert error == pytest.approx(0.02 / np.sqrt(((times - times.mean()) ** 2).sum()))
+    assert vertical_speed(np.zeros(3), np.zeros(3), HEIGHT, 0.02) == (0.0, float("inf"))
+
+
+@pytest.mark.parametrize("speed, behind", [(-60.0, True), (60.0, False)])
+def test_walking_away_is_seen_from_behind_and_walking_closer_from_the_front(speed, behind):
+    # The network hedges and reads the wrong way: the motion corrects it once enough frames are seen.
+    people = _walk(Tracker(), speed, handedness=0.05 if not behind else -0.05)
+    assert len({person.track for person in people}) == 1
+    assert all(person.facing == "appearance" for person in people[:3])  # fewer than 4 observations
+    assert all(person.facing == "motion" and _seen_from_behind(person) == behind for person in people[3:])
+
+
+def test_standing_still_leaves_the_network_s_facing():
+    people = _walk(Tracker(), 0.0, handedness=-0.05)
+    assert all(person.facing == "appearance" and not _seen_from_behind(person) for person in people)
+
+
+def test_a_clear_walk_is_read_through_the_detections_jitter():
+    people = _walk(Tracker(), -40.0, handedness=-0.5, jitter=2.0, frames=12)
+    assert all(person.facing == "motion" and _seen_from_behind(person) for person in people[4:])
+
+
+def test_a_confident_network_keeps_its_facing_unless_the_motion_is_clear():
+    config = TrackingConfig()
+    # A slow drift (2 px/s, within the jitter) does not overrule a network that is sure...
+    drifting = _walk(Tracker(config), -2.0, handedness=-(config.trust_network + 0.2))
+    assert all(person.facing == "appearance" and not _seen_from_behind(person) for person in drifting)
+    # ...but a hedging network yields to it, and a clear walk overrules even a sure one.
+    assert _walk(Tracker(config), -2.0, handedness=-0.05)[-1].facing == "motion"
+    walking = _walk(Tracker(config), -60.0, handedness=-(config.trust_network + 0.2))
+    assert walking[-1].facing == "motion" and _seen_from_behind(walking[-1])
+
+
+def test_facing_exchanges_only_the_pairs_the_network_ordered_the_other_way():
+    person = _person(300.0, 300.0, handedness=0.5)
+    person.pair_handedness[0] = -0.5  # the eyes: decoded as seen from the front
+    turned = facing_pairs(person, seen_from_behind=True)
+    (left_eye, right_eye), rest = PAIRS[0], PAIRS[1:]
+    np.testing.assert_array_equal(turned[[left_eye, right_eye]], person.keypoints[[right_eye, left_eye]])
+    for left, right in rest:
+        np.testing.assert_array_equal(turned[[left, right]], person.keypoints[[left, right]])
+
+
+def test_people_passing_side_by_side_keep_their_tracks():
+    tracker = Tracker()
+    for k in range(12):
+        # Two people 60 px apart (0.6 heights) walking in opposite directions across the image.
+        people = tracker.update([_person(200.0 + 20.0 * k, 300.0 - 5.0 * k, 0.0),
+                                 _person(460.0 - 20.0 * k, 300.0 + 5.0 * k, 0.0)][:: -1 if k % 2 else 1], k / 10.0)
+        walking_up_first = sorted(people, key=lambda p: p.box[3])  # the one walking up has the higher feet
+        assert [person.track for person in walking_up_first] == [1, 2]
+    assert _seen_from_behind(walking_up_first[0]) and not _seen_from_behind(walking_up_first[1])
+
+
+def test_a_track_unseen_for_too_long_ends_and_time_must_move_on():
+    tracker = Tracker(TrackingConfig(max_gap_s=0.5))
+    first = tracker.update([_person(300.0, 300.0, 0.0)], 0.0)[0]
+    assert tracker.update([_person(300.0, 300.0, 0.0)], 0.4)[0].track == first.track
+    assert tracker.update([_person(300.0, 300.0, 0.0)], 1.0)[0].track != first.track
+    with pytest.raises(ValueError, match="time order"):
+        tracker.update([], 1.0)
+
+
+def test_a_person_too_far_from_every_track_starts_a_new_one():
+    tracker = Tracker()
+    tracker.update([_person(100.0, 300.0, 0.0)], 0.0)
+    # 0.1 s later, 1.0 height away: beyond 0.15 + 1.5 * 0.1 heights.
+    assert tracker.update([_person(200.0, 300.0, 0.0)], 0.1)[0].track == 2
+
+
+def test_a_tracked_person_is_written_with_track_facing_and_the_network_s_handedness():
+    people = _walk(Tracker(), -60.0, handedness=-0.1, frames=5)
+    written = people[-1].to_dict()
+    assert written["track"] == 1 and written["facing"] == "motion" and written["handedness"] == pytest.approx(-0.1)
+    assert "track" not in _person(0.0, 100.0, 0.2).to_dict()
