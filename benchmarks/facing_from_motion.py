@@ -24,9 +24,9 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
+from vc.deploy.boxes import box_iou
 from vc.deploy.frames import FrameRange, FrameSource
 from vc.evaluation.baselines import YoloPoseOnnx
-from vc.evaluation.metrics import box_iou
 from vc.evaluation.mot import read_mot_tracks
 from vc.io import write_json
 from vc.keypoints import COCO_KEYPOINTS

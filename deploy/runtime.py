@@ -38,6 +38,7 @@ class Person:
     pair_handedness: np.ndarray | None = None  # (8,) the network's per pair (vc.deploy.decode.DecodedPerson)
     track: int | None = None  # set by a vc.deploy.tracking.Tracker
     facing: str = "appearance"  # what ordered the left/right pairs: "appearance" (the network) or "motion"
+    coasted: bool = False  # not seen in this frame: carried by its track (vc.deploy.tracking), without a mask
 
     def frame_mask(self, frame_size: tuple[int, int]) -> np.ndarray:
         """The mask as an (H, W) bool array over a frame of ``frame_size`` (width, height)."""
@@ -54,7 +55,8 @@ class Person:
                 "keypoints": [[round(float(x), 2), round(float(y), 2), round(float(c), 4)]
                               for x, y, c in self.keypoints],
                 "mask_area_px": int(self.mask.sum()), "handedness": round(self.handedness, 4),
-                "facing": self.facing, **({"track": self.track} if self.track is not None else {})}
+                "facing": self.facing,
+                **({"track": self.track, "coasted": self.coasted} if self.track is not None else {})}
 
     @property
     def handedness(self) -> float:

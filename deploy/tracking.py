@@ -1,4 +1,5 @@
-"""People over time: tracks, and which way each person faces from the way they walk (numpy only).
+"""People over time: tracks, people carried through the frames that miss them, and which way each person faces
+from the way they walk (numpy only).
 
 Why: which member of a left/right pair is the person's left depends on which way they face. A network reads
 it from appearance (:mod:`vc.deploy.heatmaps`' handedness maps), and where people are small it often cannot: on
@@ -14,9 +15,14 @@ knowing the camera:
   walk toward it: seen from the front (handedness < 0).
 
 People are upright in the views this project compiles (the decoder's prior assumes it), so the image axis is
-taken as the image vertical. Checked on ground-truth tracks (benchmarks/results/pose_facing_motion.md): the sign
-of the vertical foot motion agrees with YOLO11n-pose's reading of the shoulders for 91 % (PETS09) and 89 %
-(TUD-Stadtmitte) of the people whose facing it can read.
+taken as the image vertical. Checked on ground-truth tracks (benchmarks/facing_from_motion.py,
+benchmarks/results/pose_facing_motion.md): the sign of the vertical foot motion agrees with YOLO11n-pose's reading
+of the shoulders for 90 % (PETS09) and 88 % (TUD-Stadtmitte) of the people whose facing it can read.
+
+Why carry people through frames: a network on single frames loses people for a frame or two when someone walks
+in front of them or their appearance flickers, most in crowds (TUD-Stadtmitte at 25 frames/s). A track seen a few
+times and lost for less than ``coast_s`` is still reported, where its motion puts it, at a score that falls with
+the time unseen: precision pays little, as the score ranks it below what is seen.
 
 1. Association: each person goes to the live track whose last foot point (box bottom centre, frame pixels) is
    nearest, in units of the person's box height, if within ``gate_heights + max_speed_heights_per_s * dt``;
@@ -32,6 +38,10 @@ of the vertical foot motion agrees with YOLO11n-pose's reading of the shoulders 
    unclear motion. A track of fewer than ``min_observations`` in the window, or no motion at all, leaves the
    network's order.
 4. A person whose facing came from motion gets each left/right pair put in the image order that facing implies.
+5. Carried: a track of at least ``coast_min_observations`` unseen for at most ``coast_s`` is reported
+   (``coasted``) with its last box and keypoints moved by the least-squares velocity of its box over the window,
+   its score times ``exp(-unseen / coast_score_decay_s)`` and no mask, unless that box overlaps a person seen in
+   this frame by more than ``coast_duplicate_iou`` (the same person, under a new track).
 """
 
 from __future__ import annotations
@@ -40,6 +50,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from vc.deploy.boxes import box_iou
 from vc.deploy.frames import FrameSource
 from vc.deploy.heatmaps import PAIRS, swap_pairs
 from vc.deploy.runtime import Person
@@ -58,19 +69,31 @@ class TrackingConfig:
     foot_jitter_heights: float = 0.02  # the least noise assumed on a foot point
     min_significance: float = 2.0  # speed / its standard error
     trust_network: float = 0.3  # where the motion is not clear, a network this confident keeps its facing
+    coast_s: float = 0.5  # a track unseen up to this long is still reported (0: never)
+    coast_min_observations: int = 3  # a track seen this often is a person, not a passing false alarm
+    coast_score_decay_s: float = 1.0
+    coast_duplicate_iou: float = 0.7
 
 
 @dataclass
 class _Track:
+    """One person's observations within the motion window (older ones are dropped: an appliance runs for
+    months), their count ever, and the last person seen."""
+
     identity: int
     times: list[float] = field(default_factory=list)
-    feet: list[np.ndarray] = field(default_factory=list)  # (x, y) frame px
-    heights: list[float] = field(default_factory=list)  # box height px
+    boxes: list[np.ndarray] = field(default_factory=list)  # (4,) frame px
+    observations: int = 0
+    last: Person | None = None
 
-    def add(self, time_s: float, foot: np.ndarray, height: float) -> None:
-        self.times.append(time_s)
-        self.feet.append(foot)
-        self.heights.append(height)
+    def add(self, time_s: float, box: np.ndarray, window_s: float) -> None:
+        keep = [k for k, t in enumerate(self.times) if t >= time_s - window_s]
+        self.times = [self.times[k] for k in keep] + [time_s]
+        self.boxes = [self.boxes[k] for k in keep] + [np.asarray(box, np.float64)]
+        self.observations += 1
+
+    def feet(self) -> np.ndarray:
+        return foot_points_of(np.array(self.boxes))
 
 
 def tracking_rate(source: FrameSource, fps: float | None) -> float | None:
@@ -81,9 +104,10 @@ def tracking_rate(source: FrameSource, fps: float | None) -> float | None:
     return source.fps if source.kind == "video" else None
 
 
-def foot_points(people: list[Person]) -> np.ndarray:
-    """(N, 2) box bottom centres, frame px."""
-    return np.array([[(p.box[0] + p.box[2]) / 2, p.box[3]] for p in people]).reshape(-1, 2)
+def foot_points_of(boxes: np.ndarray) -> np.ndarray:
+    """(N, 2) bottom centres of boxes (N, 4), frame px."""
+    boxes = np.asarray(boxes, np.float64).reshape(-1, 4)
+    return np.column_stack([(boxes[:, 0] + boxes[:, 2]) / 2, boxes[:, 3]])
 
 
 def vertical_speed(times: np.ndarray, foot_y: np.ndarray, height: float, jitter_heights: float
@@ -129,21 +153,22 @@ class Tracker:
         self.last_time = time_s
         config = self.config
         self.tracks = [t for t in self.tracks if time_s - t.times[-1] <= config.max_gap_s]
-        feet = foot_points(people)
-        heights = np.array([max(p.box[3] - p.box[1], 1.0) for p in people])
-        tracks = self._associate(feet, heights, time_s)
+        boxes = np.array([p.box for p in people], np.float64).reshape(-1, 4)
+        tracks = self._associate(foot_points_of(boxes), np.maximum(boxes[:, 3] - boxes[:, 1], 1.0), time_s)
         result = []
-        for person, track, foot, height in zip(people, tracks, feet, heights, strict=True):
-            track.add(time_s, foot, float(height))
-            result.append(self._faced(replace(person, track=track.identity), track))
-        return result
+        for person, track in zip(people, tracks, strict=True):
+            track.add(time_s, person.box, config.window_s)
+            track.last = self._faced(replace(person, track=track.identity), track)
+            result.append(track.last)
+        seen = {id(track) for track in tracks}
+        return result + self._carried([t for t in self.tracks if id(t) not in seen], boxes, time_s)
 
     def _associate(self, feet: np.ndarray, heights: np.ndarray, time_s: float) -> list[_Track]:
         """Step 1: each person's track, new ones started."""
         candidates = []
         for i, (foot, height) in enumerate(zip(feet, heights, strict=True)):
             for j, track in enumerate(self.tracks):
-                distance = float(np.hypot(*(foot - track.feet[-1]))) / height
+                distance = float(np.hypot(*(foot - track.feet()[-1]))) / height
                 gate = self.config.gate_heights + self.config.max_speed_heights_per_s * (time_s - track.times[-1])
                 if distance <= gate:
                     candidates.append((distance, i, j))
@@ -169,9 +194,39 @@ class Tracker:
         recent = times >= times[-1] - config.window_s
         if recent.sum() < config.min_observations:
             return person
-        speed, error = vertical_speed(times[recent], np.array(track.feet)[recent, 1],
-                                      float(np.mean(np.array(track.heights)[recent])), config.foot_jitter_heights)
+        boxes = np.array(track.boxes)[recent]
+        speed, error = vertical_speed(times[recent], foot_points_of(boxes)[:, 1],
+                                      float(np.mean(boxes[:, 3] - boxes[:, 1])), config.foot_jitter_heights)
         clear = abs(speed) >= config.min_significance * error
         if speed == 0.0 or not (clear or abs(person.handedness) < config.trust_network):
             return person
         return replace(person, keypoints=facing_pairs(person, seen_from_behind=speed < 0), facing="motion")
+
+    def _carried(self, unseen: list[_Track], seen_boxes: np.ndarray, time_s: float) -> list[Person]:
+        """Step 5: the people of tracks unseen in this frame that are still reported."""
+        config = self.config
+        carried = []
+        for track in unseen:
+            elapsed = time_s - track.times[-1]
+            if elapsed > config.coast_s or track.observations < config.coast_min_observations:
+                continue
+            shift = box_velocity(np.array(track.times), np.array(track.boxes)) * elapsed
+            box = track.boxes[-1] + shift
+            if len(seen_boxes) and box_iou(box[None], seen_boxes).max() > config.coast_duplicate_iou:
+                continue
+            last = track.last
+            keypoints = last.keypoints.copy()
+            keypoints[:, :2] += ((shift[0] + shift[2]) / 2, shift[3])  # moved as the feet move
+            carried.append(replace(last, score=last.score * float(np.exp(-elapsed / config.coast_score_decay_s)),
+                                   box=box, keypoints=keypoints, mask=np.zeros((0, 0), bool),
+                                   mask_origin=(0, 0), coasted=True))
+        return carried
+
+
+def box_velocity(times: np.ndarray, boxes: np.ndarray) -> np.ndarray:
+    """Least-squares velocity (4,) of boxes (N, 4) over times (N,), frame px per second; zero from one box."""
+    t = times - times.mean()
+    spread = float(t @ t)
+    if spread <= 0.0:
+        return np.zeros(4)
+    return t @ (boxes - boxes.mean(axis=0)) / spread

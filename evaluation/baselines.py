@@ -19,8 +19,8 @@ import cv2
 import numpy as np
 import onnxruntime as ort
 
+from vc.deploy.boxes import box_iou
 from vc.errors import InputError
-from vc.evaluation.metrics import box_iou
 
 #: The person inside HOG's 64x128 detection window (Dalal & Triggs 2005, section 3): 16 px margin on all sides.
 HOG_WINDOW = (64, 128)

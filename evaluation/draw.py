@@ -26,26 +26,30 @@ def _point(xy: np.ndarray) -> tuple[int, int]:
 def draw_people(frame: np.ndarray, people: list[Person], keypoint_threshold: float = 0.2,
                 truth_boxes: np.ndarray | None = None) -> np.ndarray:
     """A copy of ``frame`` (RGB uint8) with each person's mask tinted, box, confident skeleton and score; truth
-    boxes (x0, y0, x1, y1), when given, in thin white underneath."""
+    boxes (x0, y0, x1, y1), when given, in thin white underneath. A tracked person keeps their track's colour from
+    frame to frame and is labelled with its number; one carried by their track unseen has a thin box."""
     image = frame.copy()
-    for index, person in enumerate(people):
-        colour = PALETTE[index % len(PALETTE)]
+    colours = [PALETTE[(index if person.track is None else person.track) % len(PALETTE)]
+               for index, person in enumerate(people)]
+    for person, colour in zip(people, colours, strict=True):
         x, y = person.mask_origin
         height, width = person.mask.shape
         patch = image[y:y + height, x:x + width]
         patch[person.mask] = (patch[person.mask] * (1 - MASK_OPACITY) + colour * MASK_OPACITY).astype(np.uint8)
     for box in np.asarray(truth_boxes if truth_boxes is not None else [], np.float64).reshape(-1, 4):
         cv2.rectangle(image, _point(box[:2]), _point(box[2:]), TRUTH_COLOUR, 1, cv2.LINE_AA)
-    for index, person in enumerate(people):
-        colour = tuple(int(c) for c in PALETTE[index % len(PALETTE)])
-        cv2.rectangle(image, _point(person.box[:2]), _point(person.box[2:]), colour, 2, cv2.LINE_AA)
+    for person, colour_array in zip(people, colours, strict=True):
+        colour = tuple(int(c) for c in colour_array)
+        cv2.rectangle(image, _point(person.box[:2]), _point(person.box[2:]), colour, 1 if person.coasted else 2,
+                      cv2.LINE_AA)
         confident = person.keypoints[:, 2] >= keypoint_threshold
         for a, b in COCO_SKELETON:
             if confident[a] and confident[b]:
                 cv2.line(image, _point(person.keypoints[a]), _point(person.keypoints[b]), colour, 1, cv2.LINE_AA)
         for keypoint in person.keypoints[confident]:
             cv2.circle(image, _point(keypoint), 2, colour, -1, cv2.LINE_AA)
-        cv2.putText(image, f"{person.score:.2f}", (int(person.box[0]), max(int(person.box[1]) - 3, 10)),
+        label = f"{person.score:.2f}" if person.track is None else f"#{person.track} {person.score:.2f}"
+        cv2.putText(image, label, (int(person.box[0]), max(int(person.box[1]) - 3, 10)),
                     cv2.FONT_HERSHEY_SIMPLEX, 0.4, colour, 1, cv2.LINE_AA)
     return image
 

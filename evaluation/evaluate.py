@@ -4,8 +4,9 @@ the first external pose model. What ``vc-eval`` runs and what the benchmarks cal
 
 With a video (or a folder of frames and its frame rate) the bundle runs on every frame from the first selected
 to the last, as an appliance would, and its people are tracked (:mod:`vc.deploy.tracking`): their walking
-direction decides which way they face where the network cannot tell. The pose agreement is then reported with
-and without it. Only the selected frames are scored and timed.
+direction decides which way they face where the network cannot tell, and a person lost for a moment is carried
+by their track. The bundle is then also scored each frame on its own (:data:`OURS_SINGLE_FRAME`), so that one run
+shows what tracking adds. Only the selected frames are scored and timed.
 
 Writes into ``output`` (complete or not at all): ``metrics.json`` (AP50, milliseconds per frame, and for the bundle
 its operating point and recall by person height, group and region), ``precision_recall.png``,
@@ -39,8 +40,8 @@ from vc.evaluation.plots import plot_miss_analysis, plot_pose_agreement, plot_pr
 from vc.io import atomic_directory, write_image, write_json
 
 OURS = "visual compiler"
-#: The bundle's keypoints before tracking: its pose agreement beside the tracked one says what motion adds.
-OURS_APPEARANCE_ONLY = f"{OURS}, facing from appearance only"
+#: The bundle's people before tracking, scored beside the tracked ones: what tracking adds.
+OURS_SINGLE_FRAME = f"{OURS}, each frame on its own"
 SHEET_FRAMES = 8
 HOG_UPSCALE = 2.0  # HOG's smallest window is 128 px tall: PETS09's people are 50-100 px
 
@@ -88,13 +89,10 @@ class _Record:
     images: list[ImageResult] = field(default_factory=list)
     milliseconds: list[float] = field(default_factory=list)
 
-    @staticmethod
-    def image(truth: np.ndarray, detections: Detections) -> ImageResult:
-        return ImageResult(truth_boxes=truth, boxes=np.asarray(detections.boxes).reshape(-1, 4),
-                           scores=np.asarray(detections.scores, np.float64).ravel(), keypoints=detections.keypoints)
-
     def add(self, truth: np.ndarray, detections: Detections, seconds: float) -> None:
-        self.images.append(self.image(truth, detections))
+        self.images.append(ImageResult(truth_boxes=truth, boxes=np.asarray(detections.boxes).reshape(-1, 4),
+                                       scores=np.asarray(detections.scores, np.float64).ravel(),
+                                       keypoints=detections.keypoints))
         self.milliseconds.append(seconds * 1e3)
 
     def summary(self, evaluation: Evaluation) -> dict:
@@ -111,7 +109,7 @@ def _detectors(request: EvaluationRequest) -> dict:
     for external in request.externals:
         model = YoloPoseOnnx(external.path, request.external_size, request.threads)
         name = external.name or f"{external.path.name} @{model.size}"
-        if name in detectors or name == OURS:
+        if name in detectors or name in (OURS, OURS_SINGLE_FRAME):
             raise InputError(external.path, "--external-name", f"the label {name!r} is taken; give each model its "
                                                                "own")
         detectors[name] = model
@@ -126,19 +124,16 @@ def _check_selection(source: FrameSource, truth: dict[int, np.ndarray], gt_path:
                                             f"({last_annotated}); select with --frames first:{last_annotated}:step")
 
 
-def _pose_agreements(records: dict[str, _Record], others: list[str],
-                     appearance_only: list[ImageResult] | None) -> dict[str, dict[str, PoseAgreement]]:
-    """{reference: {detector: agreement}}: the bundle (and, when tracked, its keypoints before tracking) and every
+def _pose_agreements(records: dict[str, _Record], others: list[str]) -> dict[str, dict[str, PoseAgreement]]:
+    """{reference: {detector: agreement}}: the bundle (tracked and, when it is, each frame on its own) and every
     other pose model against the first external pose model (none without one)."""
     with_pose = [name for name in others if any(image.keypoints is not None for image in records[name].images)]
     if not with_pose:
         return {}
     reference = with_pose[0]
-    agreements = {name: pose_agreement(records[name].images, records[reference].images)
-                  for name in [OURS, *with_pose[1:]]}
-    if appearance_only is not None:
-        agreements[OURS_APPEARANCE_ONLY] = pose_agreement(appearance_only, records[reference].images)
-    return {reference: agreements}
+    ours = [name for name in (OURS, OURS_SINGLE_FRAME) if name in records]
+    return {reference: {name: pose_agreement(records[name].images, records[reference].images)
+                        for name in [*ours, *with_pose[1:]]}}
 
 
 def _detections(people: list[Person]) -> Detections:
@@ -172,10 +167,10 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
         if request.threads:
             cv2.setNumThreads(request.threads)
         others = _detectors(request)
-        records = {OURS: _Record(), **{name: _Record() for name in others}}
         rate = tracking_rate(source, request.fps) if request.tracking is not None else None
         tracker = Tracker(request.tracking) if rate else None
-        appearance_only: list[ImageResult] | None = [] if tracker else None
+        records = {OURS: _Record(), **({OURS_SINGLE_FRAME: _Record()} if tracker else {}),
+                   **{name: _Record() for name in others}}
         sheet_numbers = set(np.linspace(0, source.count - 1, min(SHEET_FRAMES, source.count)).round().astype(int))
         sheet, lines, people_by_frame = [], [], {}
         width, height = runtime.bundle.frame_size
@@ -191,14 +186,15 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
             scored = frame.number in frames
             start = time.perf_counter()
             people: list[Person] = runtime(frame.image)
+            single_frame_seconds = time.perf_counter() - start
             tracked = tracker.update(people, frame.number / rate) if tracker else people
             seconds = time.perf_counter() - start
             if not scored:
                 continue
             boxes_truth = truth.get(frame.number, np.zeros((0, 4)))
             records[OURS].add(boxes_truth, _detections(tracked), seconds)
-            if appearance_only is not None:
-                appearance_only.append(_Record.image(boxes_truth, _detections(people)))
+            if tracker:
+                records[OURS_SINGLE_FRAME].add(boxes_truth, _detections(people), single_frame_seconds)
             lines.append({"frame": frame.number, "people": [person.to_dict() for person in tracked]})
             people_by_frame[frame.number] = tracked
             for name, detector in others.items():
@@ -213,7 +209,7 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
     evaluations = {name: evaluate(record.images) for name, record in records.items()}
     areas = {entry.name: entry.owned_image_area for entry in bundle.regions}
     misses = analyse_misses(records[OURS].images, list(people_by_frame), region_lookup(areas))
-    agreements = _pose_agreements(records, list(others), appearance_only)
+    agreements = _pose_agreements(records, list(others))
     metrics = {
         "bundle": str(request.bundle), "scene": bundle.manifest["scene"], "video": str(request.video),
         "ground_truth": str(request.ground_truth), "frames": {"first": frames.first, "last": frames.last,

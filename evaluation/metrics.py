@@ -19,21 +19,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from vc.deploy.boxes import box_iou
+
 IOU_THRESHOLD = 0.5
 PCKH_FRACTION = 0.5
 HEAD_FRACTION_OF_HEIGHT = 1.0 / 8.0
-
-
-def box_iou(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """IoU matrix (N, M) of boxes a (N, 4) and b (M, 4), [x0, y0, x1, y1]."""
-    a, b = np.asarray(a, np.float64).reshape(-1, 4), np.asarray(b, np.float64).reshape(-1, 4)
-    low = np.maximum(a[:, None, :2], b[None, :, :2])
-    high = np.minimum(a[:, None, 2:], b[None, :, 2:])
-    intersection = np.prod(np.clip(high - low, 0.0, None), axis=-1)
-    area_a = np.prod(np.clip(a[:, 2:] - a[:, :2], 0.0, None), axis=-1)
-    area_b = np.prod(np.clip(b[:, 2:] - b[:, :2], 0.0, None), axis=-1)
-    union = area_a[:, None] + area_b[None, :] - intersection
-    return np.where(union > 0, intersection / np.where(union > 0, union, 1.0), 0.0)
 
 
 @dataclass

@@ -34,8 +34,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from vc.deploy.boxes import box_iou
 from vc.deploy.runtime import in_area
-from vc.evaluation.metrics import IOU_THRESHOLD, Evaluation, ImageResult, box_iou, evaluate
+from vc.evaluation.metrics import IOU_THRESHOLD, Evaluation, ImageResult, evaluate
 
 #: A detection overlapping a person by at least this IoU (and less than 0.5) makes the person a near miss.
 NEAR_IOU = 0.3

@@ -12,10 +12,10 @@ from dataset_factory import INPUT_SIZE, region_camera, sample
 from onnx import TensorProto, helper
 
 from vc.cli.eval import main as vc_eval
+from vc.deploy.boxes import box_iou
 from vc.deploy.frames import FrameRange, FrameSource
 from vc.errors import InputError
 from vc.evaluation.baselines import HogPeopleDetector, YoloPoseOnnx, non_max_suppression
-from vc.evaluation.metrics import box_iou
 from vc.evaluation.mot import read_mot_boxes
 
 TRUE_BOX = np.array([40.0, 10.0, 60.0, 50.0])  # x0, y0, x1, y1 in a 128x64 frame
@@ -104,16 +104,16 @@ def test_vc_eval_scores_every_detector_and_draws_the_result(bundle, tmp_path):
     metrics = json.loads((output / "metrics.json").read_text())
     assert metrics["frames"]["count"] == 3  # the annotated range, 1-3
     detectors = metrics["detectors"]
-    assert set(detectors) == {"visual compiler", "HOG (OpenCV, real photos)", "yolo", "yolo again"}
+    assert set(detectors) == {"visual compiler", "visual compiler, each frame on its own", "HOG (OpenCV, real photos)",
+                              "yolo", "yolo again"}
     assert detectors["yolo"]["ap50"] == 1.0 and detectors["yolo"]["ground_truth"] == 3
     assert all(0.0 <= d["ap50"] <= 1.0 and d["ms_per_frame"]["median"] > 0 for d in detectors.values())
-    # The video is tracked at its own rate, and the bundle's pose is reported with and without the facing that
-    # tracking decides.
+    # The video is tracked at its own rate, and the bundle is scored with and without tracking.
     assert metrics["tracking"]["fps"] == 10 and metrics["tracking"]["config"]["window_s"] > 0
     # The bundle's pose and the second model's against the first: a model agrees with itself everywhere.
     agreement = metrics["pose_agreement"]
     assert agreement["reference"] == "yolo" and set(agreement["agreement"]) == {
-        "visual compiler", "visual compiler, facing from appearance only", "yolo again"}
+        "visual compiler", "visual compiler, each frame on its own", "yolo again"}
     assert agreement["agreement"]["yolo again"]["overall"] == 1.0
     assert agreement["agreement"]["yolo again"]["people"] == 3
     for name in ("precision_recall.png", "contact_sheet.png", "detections.jsonl", "pose_agreement.png"):

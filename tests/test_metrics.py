@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from vc.evaluation.metrics import ImageResult, average_precision, box_iou, evaluate
+from vc.deploy.boxes import box_iou
+from vc.evaluation.metrics import ImageResult, average_precision, evaluate
 
 TRUTH = np.array([[10.0, 10.0, 30.0, 70.0], [50.0, 20.0, 70.0, 80.0]])
 

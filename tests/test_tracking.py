@@ -120,3 +120,50 @@ def test_a_tracked_person_is_written_with_track_facing_and_the_network_s_handedn
     written = people[-1].to_dict()
     assert written["track"] == 1 and written["facing"] == "motion" and written["handedness"] == pytest.approx(-0.1)
     assert "track" not in _person(0.0, 100.0, 0.2).to_dict()
+
+
+def _seen_then_lost(tracker: Tracker, seen: int, lost: int, fps: float = 10.0) -> list[list[Person]]:
+    """A person walking right at 50 px/s, seen in ``seen`` frames and then in none for ``lost`` frames."""
+    return [tracker.update([_person(300.0 + 50.0 * k / fps, 300.0, 0.5)] if k < seen else [], k / fps)
+            for k in range(seen + lost)]
+
+
+def test_a_person_lost_for_a_moment_is_carried_where_their_motion_puts_them():
+    config = TrackingConfig()
+    frames = _seen_then_lost(Tracker(config), seen=5, lost=2)
+    last_seen, (carried,) = frames[4][0], frames[6]
+    assert carried.coasted and not last_seen.coasted and carried.track == last_seen.track
+    np.testing.assert_allclose(carried.box - last_seen.box, [10.0, 0.0, 10.0, 0.0], atol=1e-9)  # 0.2 s at 50 px/s
+    np.testing.assert_allclose(carried.keypoints[:, 0] - last_seen.keypoints[:, 0], 10.0, atol=1e-9)
+    assert carried.score == pytest.approx(last_seen.score * np.exp(-0.2 / config.coast_score_decay_s))
+    assert carried.mask.size == 0 and carried.to_dict()["coasted"] is True
+
+
+def test_only_confirmed_tracks_lost_briefly_are_carried():
+    config = TrackingConfig(coast_s=0.5, coast_min_observations=3)
+    assert all(len(people) == 1 for people in _seen_then_lost(Tracker(config), seen=3, lost=5))  # 0.5 s at most
+    assert _seen_then_lost(Tracker(config), seen=3, lost=6)[-1] == []  # 0.6 s unseen
+    assert _seen_then_lost(Tracker(config), seen=2, lost=1)[-1] == []  # seen twice: perhaps a false alarm
+    assert _seen_then_lost(Tracker(TrackingConfig(coast_s=0.0)), seen=5, lost=1)[-1] == []
+
+
+def test_a_carried_box_on_top_of_a_person_seen_is_not_reported_twice():
+    def last_frame(shift_px: float) -> list[Person]:
+        # A gate of 1 % of a height: the person seen again a little aside starts a new track, and the old track
+        # is unseen in that frame.
+        tracker = Tracker(TrackingConfig(gate_heights=0.01, max_speed_heights_per_s=0.0))
+        for k in range(5):
+            tracker.update([_person(300.0, 300.0, 0.5)], k / 10.0)
+        return tracker.update([_person(300.0 + shift_px, 300.0, 0.5)], 0.5)
+
+    (alone,) = last_frame(5.0)  # IoU 0.78 with the old track's box: the same person
+    assert alone.track == 2 and not alone.coasted
+    assert [person.coasted for person in last_frame(15.0)] == [False, True]  # IoU 0.45: perhaps someone else
+
+
+def test_a_long_track_keeps_only_its_window_and_its_identity():
+    tracker = Tracker()
+    for k in range(600):  # a minute at 10 frames/s
+        (person,) = tracker.update([_person(300.0, 300.0 - 0.1 * k, 0.0)], k / 10.0)
+    assert person.track == 1 and person.facing == "motion" and _seen_from_behind(person)
+    assert len(tracker.tracks) == 1 and len(tracker.tracks[0].times) <= 11

@@ -4,8 +4,9 @@
            [--fps F] [--no-tracking] [--public-key KEY.pub] [--quiet]
 
 INPUT is an image, a folder of images or a video file. Writes ``OUT/detections.jsonl`` (one line per frame: its
-number, name and people with box, score, 17 keypoints with confidences, mask area, the network's handedness, the
-track and what decided which way the person faces), ``OUT/summary.json``
+number, name and people with box, score, 17 keypoints with confidences, mask area, the network's handedness and,
+when tracked, the track, whether the person was carried by it unseen and what decided which way they face),
+``OUT/summary.json``
 (frames, people, milliseconds per frame) and with ``--overlay`` the frames drawn with their detections
 (``OUT/overlay.mp4`` for a video, ``OUT/overlays/<name>.png`` otherwise). OUT appears complete or not at all. Bad
 input (a damaged bundle, an unreadable or empty video, frames of another size than the bundle's camera) prints
@@ -92,7 +93,7 @@ def main(argv: list[str] | None = None) -> int:
         rate = None if args.no_tracking else tracking_rate(source, args.fps)
         tracker = Tracker() if rate else None
         width, height = runtime.bundle.frame_size
-        milliseconds, people_count = [], 0
+        milliseconds, people_count, coasted_count = [], 0, 0
         with atomic_directory(args.output) as staging, open(staging / DETECTIONS, "w") as lines:
             overlays = _Overlays(staging, source, (width, height)) if args.overlay else None
             try:
@@ -107,6 +108,7 @@ def main(argv: list[str] | None = None) -> int:
                         people = tracker.update(people, frame.number / rate)
                     milliseconds.append((time.perf_counter() - start) * 1e3)
                     people_count += len(people)
+                    coasted_count += sum(person.coasted for person in people)
                     lines.write(json.dumps({"frame": frame.number, "name": frame.name,
                                             "people": [person.to_dict() for person in people]}) + "\n")
                     if overlays:
@@ -119,7 +121,8 @@ def main(argv: list[str] | None = None) -> int:
                 "input_kind": source.kind, "frames": len(milliseconds), "people": people_count,
                 "regions": [{"name": r.name, "precision": r.precision} for r in runtime.bundle.regions],
                 "threads": args.threads, "parallel_regions": runtime.pool is not None,
-                "tracking": {"fps": rate, "config": asdict(tracker.config)} if tracker else None,
+                "tracking": ({"fps": rate, "config": asdict(tracker.config), "people_carried": coasted_count}
+                             if tracker else None),
                 "ms_per_frame": {"mean": float(np.mean(milliseconds)), "median": float(np.median(milliseconds)),
                                  "p90": float(np.percentile(milliseconds, 90))},
             }
