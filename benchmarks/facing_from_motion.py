@@ -27,7 +27,7 @@ from tqdm import tqdm
 from vc.deploy.boxes import box_iou
 from vc.deploy.frames import FrameRange, FrameSource
 from vc.evaluation.baselines import YoloPoseOnnx
-from vc.evaluation.mot import read_mot_tracks
+from vc.evaluation.mot import read_mot_boxes, read_mot_ids
 from vc.io import write_json
 from vc.keypoints import COCO_KEYPOINTS
 
@@ -66,7 +66,10 @@ def track_motion(track: dict[int, np.ndarray], frame: int, half: int) -> tuple[f
 
 def measure(video: Path, gt: Path, reference: Path, frames: FrameRange, fps: float, half_window_s: float) -> dict:
     model = YoloPoseOnnx(reference)
-    tracks = read_mot_tracks(gt)
+    tracks: dict[int, dict[int, np.ndarray]] = {}  # person -> frame -> box
+    for (number, boxes), ids in zip(read_mot_boxes(gt).items(), read_mot_ids(gt).values(), strict=True):
+        for box, person in zip(boxes, ids, strict=True):
+            tracks.setdefault(int(person), {})[number] = box
     half = max(1, round(half_window_s * fps))
     rows = []  # (reference facing, along, across)
     source = FrameSource(video, frames)

@@ -24,10 +24,11 @@ in front of them or their appearance flickers, most in crowds (TUD-Stadtmitte at
 times and lost for less than ``coast_s`` is still reported, where its motion puts it, at a score that falls with
 the time unseen: precision pays little, as the score ranks it below what is seen.
 
-1. Association: each person goes to the live track whose last foot point (box bottom centre, frame pixels) is
-   nearest, in units of the person's box height, if within ``gate_heights + max_speed_heights_per_s * dt``;
-   pairs are taken nearest first, each person and track once. A person without a track starts one. A track not
-   seen for ``max_gap_s`` ends.
+1. Association: each person goes to the live track whose foot point (box bottom centre, frame pixels), moved on
+   by the track's velocity (least squares over its window) to this frame, is nearest, in units of the person's
+   box height, if within ``gate_heights + max_speed_heights_per_s * dt``; pairs are taken nearest first, each
+   person and track once. A person without a track starts one. A track not seen for ``max_gap_s`` ends. (Without
+   the velocity, tracks hopped between people walking close together: IDF1 0.46 against 0.63 on PETS09.)
 2. Motion: the least-squares speed of the track's foot height in the image over its last ``window_s`` seconds
    (in person heights per second) and its standard error (the fit's residuals, floored at
    ``foot_jitter_heights``).
@@ -94,6 +95,11 @@ class _Track:
 
     def feet(self) -> np.ndarray:
         return foot_points_of(np.array(self.boxes))
+
+    def predicted_foot(self, time_s: float) -> np.ndarray:
+        """Where the feet are at ``time_s`` if they keep the window's velocity."""
+        velocity = box_velocity(np.array(self.times), np.array(self.boxes))
+        return self.feet()[-1] + foot_points_of(velocity[None])[0] * (time_s - self.times[-1])
 
 
 def tracking_rate(source: FrameSource, fps: float | None) -> float | None:
@@ -166,9 +172,10 @@ class Tracker:
     def _associate(self, feet: np.ndarray, heights: np.ndarray, time_s: float) -> list[_Track]:
         """Step 1: each person's track, new ones started."""
         candidates = []
+        predicted = [track.predicted_foot(time_s) for track in self.tracks]
         for i, (foot, height) in enumerate(zip(feet, heights, strict=True)):
             for j, track in enumerate(self.tracks):
-                distance = float(np.hypot(*(foot - track.feet()[-1]))) / height
+                distance = float(np.hypot(*(foot - predicted[j]))) / height
                 gate = self.config.gate_heights + self.config.max_speed_heights_per_s * (time_s - track.times[-1])
                 if distance <= gate:
                     candidates.append((distance, i, j))

@@ -35,8 +35,9 @@ from vc.evaluation.baselines import Detections, HogPeopleDetector, YoloPoseOnnx
 from vc.evaluation.draw import contact_sheet, draw_errors, draw_people
 from vc.evaluation.metrics import Evaluation, ImageResult, evaluate
 from vc.evaluation.misses import MissAnalysis, analyse_misses, region_lookup
-from vc.evaluation.mot import read_mot_boxes
+from vc.evaluation.mot import read_mot_boxes, read_mot_ids
 from vc.evaluation.plots import plot_miss_analysis, plot_pose_agreement, plot_precision_recall
+from vc.evaluation.tracks import FrameTracks, TrackAccuracy, track_accuracy
 from vc.io import atomic_directory, write_image, write_json
 
 OURS = "visual compiler"
@@ -141,6 +142,16 @@ def _detections(people: list[Person]) -> Detections:
                       np.array([p.keypoints for p in people]).reshape(-1, 17, 3))
 
 
+def _track_accuracy(images: list[ImageResult], people_by_frame: dict[int, list[Person]], ground_truth: Path,
+                    score_threshold: float) -> TrackAccuracy:
+    """The tracks' CLEAR MOT and IDF1 at the operating point (:mod:`vc.evaluation.tracks`)."""
+    ids = read_mot_ids(ground_truth)
+    return track_accuracy([FrameTracks(image.truth_boxes, ids.get(number, np.zeros(0, int)), image.boxes,
+                                       image.scores, np.array([person.track for person in people], int))
+                           for image, (number, people) in zip(images, people_by_frame.items(), strict=True)],
+                          score_threshold)
+
+
 def _write_miss_analysis(folder: Path, misses: MissAnalysis, video: Path, frames: FrameRange,
                          people_by_frame: dict[int, list[Person]], title: str) -> None:
     """``misses.json``, ``misses.png`` and ``worst_frames.png`` (the frames of most errors, read again)."""
@@ -210,14 +221,18 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
     areas = {entry.name: entry.owned_image_area for entry in bundle.regions}
     misses = analyse_misses(records[OURS].images, list(people_by_frame), region_lookup(areas))
     agreements = _pose_agreements(records, list(others))
+    tracking = ({"fps": rate, "config": asdict(request.tracking)} if tracker else
+                {"off": "--no-tracking" if request.tracking is None else
+                 "the frames' times are unknown (a folder of frames: give --fps)"})
+    if tracker and misses is not None:
+        tracking["accuracy"] = _track_accuracy(records[OURS].images, people_by_frame, request.ground_truth,
+                                               misses.score_threshold).to_dict()
     metrics = {
         "bundle": str(request.bundle), "scene": bundle.manifest["scene"], "video": str(request.video),
         "ground_truth": str(request.ground_truth), "frames": {"first": frames.first, "last": frames.last,
                                                              "step": frames.step, "count": source.count},
         "threads": request.threads, "iou_threshold": 0.5,
-        "tracking": ({"fps": rate, "config": asdict(request.tracking)} if tracker else
-                     {"off": "--no-tracking" if request.tracking is None else
-                      "the frames' times are unknown (a folder of frames: give --fps)"}),
+        "tracking": tracking,
         "detectors": {name: record.summary(evaluations[name]) for name, record in records.items()},
         "operating_point": misses.summary() if misses is not None else {},
         **({"pose_agreement": {"reference": next(iter(agreements)), "reference_confidence": REFERENCE_CONFIDENCE,

@@ -57,11 +57,9 @@ def read_mot_world(path: Path) -> tuple[np.ndarray, np.ndarray]:
     return np.array(boxes).reshape(-1, 4), np.array(ground).reshape(-1, 2)
 
 
-def read_mot_tracks(path: Path) -> dict[int, dict[int, np.ndarray]]:
-    """Person id -> {frame number -> box (4,)}: the ground truth's tracks (column 2 is the person's id)."""
-    tracks: dict[int, dict[int, np.ndarray]] = {}
-    for number, values in _rows(path, 6, "frame,id,left,top,width,height,..."):
-        tracks.setdefault(int(values[1]), {})[int(values[0])] = np.array(_box(path, number, values))
-    if not tracks:
-        raise InputError(path, "", "holds no boxes")
-    return tracks
+def read_mot_ids(path: Path) -> dict[int, np.ndarray]:
+    """Frame number -> (N,) person ids, in the order of :func:`read_mot_boxes`' boxes."""
+    ids: dict[int, list[int]] = {}
+    for _, values in _rows(path, 6, "frame,id,left,top,width,height,..."):
+        ids.setdefault(int(values[0]), []).append(int(values[1]))
+    return {frame: np.array(values) for frame, values in ids.items()}

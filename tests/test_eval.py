@@ -16,7 +16,7 @@ from vc.deploy.boxes import box_iou
 from vc.deploy.frames import FrameRange, FrameSource
 from vc.errors import InputError
 from vc.evaluation.baselines import HogPeopleDetector, YoloPoseOnnx, non_max_suppression
-from vc.evaluation.mot import read_mot_boxes
+from vc.evaluation.mot import read_mot_boxes, read_mot_ids
 
 TRUE_BOX = np.array([40.0, 10.0, 60.0, 50.0])  # x0, y0, x1, y1 in a 128x64 frame
 YOLO_SIZE = 64
@@ -51,6 +51,8 @@ def test_mot_boxes_are_read_per_frame_and_bad_lines_named(tmp_path):
     boxes = read_mot_boxes(path)
     assert sorted(boxes) == [1, 3] and boxes[1].shape == (2, 4)
     assert np.allclose(boxes[1][0], [499.2, 157.7, 530.2, 232.9])
+    ids = read_mot_ids(path)  # the person of each box, in the same order
+    assert sorted(ids) == [1, 3] and ids[1].tolist() == [9, 15] and ids[3].tolist() == [9]
     path.write_text("1,9,499.2,157.7,31.0,75.2\n2,9,x,1,1,1\n")
     with pytest.raises(InputError, match="line 2"):
         read_mot_boxes(path)

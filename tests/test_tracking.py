@@ -167,3 +167,14 @@ def test_a_long_track_keeps_only_its_window_and_its_identity():
         (person,) = tracker.update([_person(300.0, 300.0 - 0.1 * k, 0.0)], k / 10.0)
     assert person.track == 1 and person.facing == "motion" and _seen_from_behind(person)
     assert len(tracker.tracks) == 1 and len(tracker.tracks[0].times) <= 11
+
+
+def test_people_crossing_close_keep_their_tracks_by_their_velocity():
+    tracker = Tracker()
+    for k in range(16):
+        # 20 px (0.2 heights) a frame toward each other, 5 px apart vertically: as they cross, matching each
+        # person to the nearest last position exchanges them; matching to where each track is heading does not.
+        walking_right = _person(200.0 + 20.0 * k, 300.0, 0.0)
+        walking_left = _person(500.0 - 20.0 * k, 305.0, 0.0)
+        people = tracker.update([walking_right, walking_left], k / 10.0)
+        assert [person.track for person in people] == [1, 2]

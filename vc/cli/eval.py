@@ -108,7 +108,13 @@ def report(result: EvaluationReport, output: Path) -> None:
     if result.misses is not None:
         print(_miss_summary(result.misses))
     tracking = result.metrics["tracking"]
-    print(f"  tracked at {tracking['fps']:g} frames/s" if "fps" in tracking else f"  not tracked: {tracking['off']}")
+    if "fps" not in tracking:
+        print(f"  not tracked: {tracking['off']}")
+    else:
+        accuracy = tracking.get("accuracy")
+        print(f"  tracked at {tracking['fps']:g} frames/s" + ("" if accuracy is None or accuracy["mota"] is None else
+              f": MOTA {accuracy['mota']:.3f}, IDF1 {accuracy['idf1']:.3f}, {accuracy['id_switches']} identity "
+              f"switches over the scored frames"))
     for reference, by_name in result.agreements.items():
         for name, agreement in by_name.items():
             overall = "n/a" if agreement.overall is None else f"{agreement.overall:.3f}"
