@@ -3,6 +3,8 @@
 1. People are the local maxima of the centre map above ``centre_threshold`` (3x3 neighbourhood), refined to
    sub-cell precision by a parabola through each peak and its neighbours. A peak closer than
    ``min_centre_separation`` expected heights to a stronger one is that person's blurred peak, not another.
+   Asked for weak people (``weak_above``), the peaks down to that value are decoded too, flagged ``weak``, for a
+   tracker to continue tracks with; they take no mask cells or keypoint peaks from the others.
 2. Each keypoint is the maximum of its map weighted by a Gaussian prior around where that keypoint sits on an
    upright person (:data:`UPRIGHT_OFFSETS`, scaled by the person's expected height): a neighbour's ankle, even
    if nearer to this centre, loses to this person's own. At most ``max_people`` peaks are decoded. Pairs come
@@ -95,6 +97,7 @@ class DecodedPerson:
     # image-left member is the left one (the person seen from behind), < 0 the right one (from the front); the
     # decoder ordered the pairs by their signs. None from a network without handedness maps.
     pair_handedness: np.ndarray | None = None
+    weak: bool = False  # below the centre threshold, decoded only when asked for (``decode``'s ``weak_above``)
 
 
 def _refine_many(heatmaps: np.ndarray, rows: np.ndarray, columns: np.ndarray) -> np.ndarray:
@@ -147,17 +150,22 @@ def find_peaks(heatmap: np.ndarray, threshold: float, limit: int | None = None) 
 
 
 def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
-           expected_height_px: np.ndarray | None = None) -> list[DecodedPerson]:
+           expected_height_px: np.ndarray | None = None, weak_above: float | None = None) -> list[DecodedPerson]:
     """People in one sample's heat maps (C, h, w), C = ``HEATMAP_CHANNELS`` or, from networks trained before the
     handedness maps, ``ANATOMICAL_CHANNELS``. ``expected_height_px`` (h, w): the pixel height of a person whose
-    centre is at each cell, from the region's camera; None falls back to ``config.default_height_px``."""
+    centre is at each cell, from the region's camera; None falls back to ``config.default_height_px``.
+
+    ``weak_above`` (below ``config.centre_threshold``): the centre peaks down to it are decoded too, as ``weak``
+    people (for a tracker: :mod:`vc.deploy.tracking`). They take no mask cells or keypoint peaks from the others,
+    which come out as they would without them."""
     stride = config.stride
     channels, height, width = heatmaps.shape
     if channels not in (HEATMAP_CHANNELS, ANATOMICAL_CHANNELS):
         raise ValueError(f"heat maps have {channels} channels; a ScenePoseNet emits {HEATMAP_CHANNELS} (or "
                          f"{ANATOMICAL_CHANNELS} before handedness maps)")
     image_ordered = channels == HEATMAP_CHANNELS
-    peaks = find_peaks(heatmaps[CENTRE_CHANNEL], config.centre_threshold, config.max_people)
+    floor = config.centre_threshold if weak_above is None else min(weak_above, config.centre_threshold)
+    peaks = find_peaks(heatmaps[CENTRE_CHANNEL], floor, config.max_people)
     if not peaks:
         return []
     rows, columns = np.indices((height, width))
@@ -170,17 +178,24 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     peaks, centres_cells = [peaks[i] for i in keep], centres_cells[keep]
     heights_px, heights_cells = heights_px[keep], heights_cells[keep]
 
-    # Mask cells go to the nearest centre, distance measured in expected heights.
+    strong = np.array([score >= config.centre_threshold for score, _ in peaks])
+
+    # Mask cells go to the nearest centre, distance measured in expected heights (a strong person's, to the
+    # nearest strong centre: weak people take nothing from them).
     distance = np.hypot(columns[None] - centres_cells[:, 0, None, None], rows[None] - centres_cells[:, 1, None, None])
-    owner = np.argmin(distance / heights_cells[:, None, None], axis=0)
+    scaled = distance / heights_cells[:, None, None]
+    owner = np.argmin(scaled, axis=0)
+    strong_indices = np.flatnonzero(strong)
+    owner_among_strong = strong_indices[np.argmin(scaled[strong_indices], axis=0)] if len(strong_indices) else owner
     foreground = heatmaps[MASK_CHANNEL] > config.mask_threshold
 
     people = []
     keypoint_maps = heatmaps[KEYPOINT_CHANNELS]
-    shared_out = (_exclusive_keypoints(keypoint_maps, centres_cells, heights_cells, config)
-                  if config.exclusive_keypoints else None)
+    shared_out = (dict(zip(strong_indices, _exclusive_keypoints(keypoint_maps, centres_cells[strong],
+                                                                heights_cells[strong], config), strict=True))
+                  if config.exclusive_keypoints else {})
     for index, (score, centre_cells) in enumerate(peaks):
-        keypoints = (shared_out[index] if shared_out is not None
+        keypoints = (shared_out[index] if index in shared_out
                      else _keypoints(keypoint_maps, centre_cells, heights_cells[index], config))
         pair_handedness = None
         if image_ordered:
@@ -190,11 +205,12 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
             keypoints = swap_pairs(keypoints, pair_handedness < 0)
         within_reach = ((np.abs(columns - centre_cells[0]) <= config.reach_sideways * heights_cells[index])
                         & (np.abs(rows - centre_cells[1]) <= config.reach_vertical * heights_cells[index]))
-        mask_cells = foreground & (owner == index) & within_reach
+        mask_cells = foreground & ((owner_among_strong if strong[index] else owner) == index) & within_reach
         centre = cells_to_input(centre_cells, stride)
         people.append(DecodedPerson(score=score, centre=centre, keypoints=keypoints,
                                     box=_box(centre, heights_px[index], keypoints, mask_cells, config),
-                                    mask_cells=mask_cells, pair_handedness=pair_handedness))
+                                    mask_cells=mask_cells, pair_handedness=pair_handedness,
+                                    weak=not strong[index]))
     return people
 
 

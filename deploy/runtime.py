@@ -39,6 +39,7 @@ class Person:
     track: int | None = None  # set by a vc.deploy.tracking.Tracker
     facing: str = "appearance"  # what ordered the left/right pairs: "appearance" (the network) or "motion"
     coasted: bool = False  # not seen in this frame: carried by its track (vc.deploy.tracking), without a mask
+    weak: bool = False  # below the bundle's centre threshold: decoded only for a tracker to continue a track with
 
     def frame_mask(self, frame_size: tuple[int, int]) -> np.ndarray:
         """The mask as an (H, W) bool array over a frame of ``frame_size`` (width, height)."""
@@ -56,7 +57,8 @@ class Person:
                               for x, y, c in self.keypoints],
                 "mask_area_px": int(self.mask.sum()), "handedness": round(self.handedness, 4),
                 "facing": self.facing,
-                **({"track": self.track, "coasted": self.coasted} if self.track is not None else {})}
+                **({"track": self.track, "coasted": self.coasted, "weak": self.weak} if self.track is not None
+                   else {})}
 
     @property
     def handedness(self) -> float:
@@ -92,8 +94,10 @@ def in_area(points: np.ndarray, area: dict) -> np.ndarray:
 class RegionRunner:
     """One region's model session and the mapping from its network input to frame pixels."""
 
-    def __init__(self, entry: RegionEntry, frame_size: tuple[int, int], threads: int) -> None:
+    def __init__(self, entry: RegionEntry, frame_size: tuple[int, int], threads: int,
+                 weak_people_above: float | None = None) -> None:
         self.entry = entry
+        self.weak_people_above = weak_people_above
         options = ort.SessionOptions()
         options.intra_op_num_threads = threads
         options.inter_op_num_threads = 1
@@ -121,8 +125,9 @@ class RegionRunner:
         return self.people_in(self.heatmaps(frame))
 
     def people_in(self, heatmaps: np.ndarray, config: DecodeConfig | None = None) -> list[Person]:
-        """The people this region owns in its heat maps, decoded with the bundle's settings or ``config``."""
-        decoded = decode(heatmaps, config or self.entry.decode, self.entry.expected_height_px)
+        """The people this region owns in its heat maps, decoded with the bundle's settings or ``config``; with
+        ``weak_people_above``, also the weaker centre peaks down to it, flagged ``weak``."""
+        decoded = decode(heatmaps, config or self.entry.decode, self.entry.expected_height_px, self.weak_people_above)
         if not decoded:
             return []
         boxes = np.array([np.r_[self.to_frame(p.box[:2]), self.to_frame(p.box[2:])] for p in decoded])
@@ -134,7 +139,8 @@ class RegionRunner:
         keypoints = person.keypoints.copy()
         keypoints[:, :2] = self.to_frame(keypoints[:, :2])
         mask, origin = self._frame_mask(person.mask_cells)
-        return Person(self.entry.name, person.score, box, keypoints, mask, origin, person.pair_handedness)
+        return Person(self.entry.name, person.score, box, keypoints, mask, origin, person.pair_handedness,
+                      weak=person.weak)
 
     def _frame_mask(self, mask_cells: np.ndarray) -> tuple[np.ndarray, tuple[int, int]]:
         """Cells -> frame pixels over the mask's bounding rectangle: each frame pixel of the crop takes the cell
@@ -167,10 +173,14 @@ class Runtime:
     per frame in parallel, 28 ms in turn; benchmarks/runtime_latency.py).
     ``public_key``: a PEM Ed25519 public key (file or bytes); the bundle then loads only if its manifest is signed
     by it (:mod:`vc.deploy.signing`).
+    ``weak_people_above``: also decode the centre peaks between this and the bundle's own threshold, as people
+    flagged ``weak`` — for a :class:`vc.deploy.tracking.Tracker`, which keeps only those continuing a track (None:
+    the bundle's people only).
     """
 
     def __init__(self, bundle: Bundle | str | Path, threads: int | None = None,
-                 parallel_regions: bool | None = None, public_key: Path | bytes | None = None):
+                 parallel_regions: bool | None = None, public_key: Path | bytes | None = None,
+                 weak_people_above: float | None = None):
         if isinstance(bundle, Bundle) and public_key is not None:
             raise ValueError("a public key checks a bundle as it is loaded: give the bundle's path")
         self.bundle = bundle if isinstance(bundle, Bundle) else load_bundle(bundle, public_key)
@@ -178,7 +188,8 @@ class Runtime:
         if parallel_regions is None:
             parallel_regions = len(self.bundle.regions) > 1 and (threads or cores) > 1
         per_region = 1 if parallel_regions else (threads or cores)
-        self.runners = [RegionRunner(entry, self.bundle.frame_size, per_region) for entry in self.bundle.regions]
+        self.runners = [RegionRunner(entry, self.bundle.frame_size, per_region, weak_people_above)
+                        for entry in self.bundle.regions]
         self.pool = ThreadPoolExecutor(max_workers=threads or cores) if parallel_regions else None
 
     def check_frame(self, frame: np.ndarray) -> None:

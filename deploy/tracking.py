@@ -29,6 +29,11 @@ the time unseen: precision pays little, as the score ranks it below what is seen
    box height, if within ``gate_heights + max_speed_heights_per_s * dt``; pairs are taken nearest first, each
    person and track once. A person without a track starts one. A track not seen for ``max_gap_s`` ends. (Without
    the velocity, tracks hopped between people walking close together: IDF1 0.46 against 0.63 on PETS09.)
+   1b. Weak people (``Person.weak``: centre peaks below the bundle's threshold, decoded down to
+   ``weak_people_above`` for the tracker) are then matched the same way to the tracks still unmatched that were
+   seen at least ``coast_min_observations`` times; a weak person who continues no such track is dropped. A person
+   half hidden by another or blurred for a frame keeps their track with their own box rather than a carried one
+   (the idea of ByteTrack, Zhang et al., 2022).
 2. Motion: the least-squares speed of the track's foot height in the image over its last ``window_s`` seconds
    (in person heights per second) and its standard error (the fit's residuals, floored at
    ``foot_jitter_heights``).
@@ -74,6 +79,9 @@ class TrackingConfig:
     coast_min_observations: int = 3  # a track seen this often is a person, not a passing false alarm
     coast_score_decay_s: float = 1.0
     coast_duplicate_iou: float = 0.7
+    # The runtime also decodes centre peaks down to this, as weak people (Runtime(weak_people_above=...)): a weak
+    # person only continues a track seen coast_min_observations times, and is dropped otherwise.
+    weak_people_above: float = 0.1
 
 
 @dataclass
@@ -159,22 +167,31 @@ class Tracker:
         self.last_time = time_s
         config = self.config
         self.tracks = [t for t in self.tracks if time_s - t.times[-1] <= config.max_gap_s]
-        boxes = np.array([p.box for p in people], np.float64).reshape(-1, 4)
-        tracks = self._associate(foot_points_of(boxes), np.maximum(boxes[:, 3] - boxes[:, 1], 1.0), time_s)
+        strong = [p for p in people if not p.weak]
+        weak = [p for p in people if p.weak]
+        matched = list(zip(strong, self._associate(strong, self.tracks, time_s, start_new=True), strict=True))
+        taken = {id(track) for _, track in matched}
+        confirmed = [t for t in self.tracks if id(t) not in taken and t.observations >= config.coast_min_observations]
+        matched += [(person, track) for person, track in
+                    zip(weak, self._associate(weak, confirmed, time_s, start_new=False), strict=True) if track]
         result = []
-        for person, track in zip(people, tracks, strict=True):
+        for person, track in matched:
             track.add(time_s, person.box, config.window_s)
             track.last = self._faced(replace(person, track=track.identity), track)
             result.append(track.last)
-        seen = {id(track) for track in tracks}
+        seen = {id(track) for _, track in matched}
+        boxes = np.array([p.box for p in result], np.float64).reshape(-1, 4)
         return result + self._carried([t for t in self.tracks if id(t) not in seen], boxes, time_s)
 
-    def _associate(self, feet: np.ndarray, heights: np.ndarray, time_s: float) -> list[_Track]:
-        """Step 1: each person's track, new ones started."""
+    def _associate(self, people: list[Person], tracks: list[_Track], time_s: float, start_new: bool
+                   ) -> list[_Track | None]:
+        """Step 1: each person's track among ``tracks``; without one, a new track or None."""
+        boxes = np.array([p.box for p in people], np.float64).reshape(-1, 4)
+        feet, heights = foot_points_of(boxes), np.maximum(boxes[:, 3] - boxes[:, 1], 1.0)
         candidates = []
-        predicted = [track.predicted_foot(time_s) for track in self.tracks]
+        predicted = [track.predicted_foot(time_s) for track in tracks]
         for i, (foot, height) in enumerate(zip(feet, heights, strict=True)):
-            for j, track in enumerate(self.tracks):
+            for j, track in enumerate(tracks):
                 distance = float(np.hypot(*(foot - predicted[j]))) / height
                 gate = self.config.gate_heights + self.config.max_speed_heights_per_s * (time_s - track.times[-1])
                 if distance <= gate:
@@ -183,15 +200,15 @@ class Tracker:
         taken: set[int] = set()
         for _, i, j in sorted(candidates):
             if i not in assigned and j not in taken:
-                assigned[i] = self.tracks[j]
+                assigned[i] = tracks[j]
                 taken.add(j)
-        result = []
-        for i in range(len(feet)):
-            if i not in assigned:
+        result: list[_Track | None] = []
+        for i in range(len(people)):
+            if i not in assigned and start_new:
                 assigned[i] = _Track(self.next_identity)
                 self.next_identity += 1
                 self.tracks.append(assigned[i])
-            result.append(assigned[i])
+            result.append(assigned.get(i))
         return result
 
     def _faced(self, person: Person, track: _Track) -> Person:

@@ -171,15 +171,16 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
     """Run every detector on every selected frame (each timed), score them, analyse the bundle's misses and write
     the outputs (see the module's docstring)."""
     truth = read_mot_boxes(request.ground_truth)
-    with Runtime(request.bundle, threads=request.threads) as runtime:
-        frames = request.frames or FrameRange(1, max(truth))
-        source = FrameSource(request.video, frames)
-        _check_selection(source, truth, request.ground_truth)
+    frames = request.frames or FrameRange(1, max(truth))
+    source = FrameSource(request.video, frames)
+    _check_selection(source, truth, request.ground_truth)
+    rate = tracking_rate(source, request.fps) if request.tracking is not None else None
+    tracker = Tracker(request.tracking) if rate else None
+    with Runtime(request.bundle, threads=request.threads,
+                 weak_people_above=request.tracking.weak_people_above if tracker else None) as runtime:
         if request.threads:
             cv2.setNumThreads(request.threads)
         others = _detectors(request)
-        rate = tracking_rate(source, request.fps) if request.tracking is not None else None
-        tracker = Tracker(request.tracking) if rate else None
         records = {OURS: _Record(), **({OURS_SINGLE_FRAME: _Record()} if tracker else {}),
                    **{name: _Record() for name in others}}
         sheet_numbers = set(np.linspace(0, source.count - 1, min(SHEET_FRAMES, source.count)).round().astype(int))
@@ -198,6 +199,7 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
             start = time.perf_counter()
             people: list[Person] = runtime(frame.image)
             single_frame_seconds = time.perf_counter() - start
+            on_its_own = [person for person in people if not person.weak]  # what the bundle reports without a tracker
             tracked = tracker.update(people, frame.number / rate) if tracker else people
             seconds = time.perf_counter() - start
             if not scored:
@@ -205,7 +207,7 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
             boxes_truth = truth.get(frame.number, np.zeros((0, 4)))
             records[OURS].add(boxes_truth, _detections(tracked), seconds)
             if tracker:
-                records[OURS_SINGLE_FRAME].add(boxes_truth, _detections(people), single_frame_seconds)
+                records[OURS_SINGLE_FRAME].add(boxes_truth, _detections(on_its_own), single_frame_seconds)
             lines.append({"frame": frame.number, "people": [person.to_dict() for person in tracked]})
             people_by_frame[frame.number] = tracked
             for name, detector in others.items():

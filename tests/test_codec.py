@@ -244,3 +244,27 @@ def test_a_sharper_centre_map_keeps_one_person_behind_another_as_two():
     sharp = centre_map_settings(0.04)
     assert people_found(sharp) == 2
     assert sharp["loss"].detection == pytest.approx(4.0)  # a quarter of the area, four times the weight
+
+
+@pytest.mark.parametrize("exclusive", [False, True])
+def test_weak_people_are_decoded_when_asked_and_take_nothing_from_the_others(exclusive):
+    """Two people side by side, the right one's centre peak faded below the threshold: asked for weak people, the
+    decoder also returns the faded one, flagged weak, and the other comes out exactly as without it (its mask
+    cells and keypoint peaks are not shared out with the weak one)."""
+    left, right = _person((100.0, 96.0), 100.0, 1), _person((128.0, 96.0), 100.0, 2)
+    heatmaps = encode([left, right], _instances([left, right]), CodecConfig(stride=STRIDE))
+    column, row = (int(round(v)) for v in input_to_cells(right["center"], STRIDE))
+    heatmaps[CENTRE_CHANNEL, row - 3:row + 4, column - 3:column + 4] *= 0.2
+    heights = np.full(heatmaps.shape[1:], 100.0)
+    config = DecodeConfig(stride=STRIDE, exclusive_keypoints=exclusive)
+    alone = decode(heatmaps, config, heights)
+    with_weak = decode(heatmaps, config, heights, weak_above=0.1)
+    assert len(alone) == 1 and not alone[0].weak
+    assert [person.weak for person in with_weak] == [False, True]
+    strong, weak = with_weak
+    np.testing.assert_array_equal(strong.mask_cells, alone[0].mask_cells)
+    np.testing.assert_allclose(strong.box, alone[0].box)
+    np.testing.assert_allclose(strong.keypoints, alone[0].keypoints)
+    assert weak.score < config.centre_threshold and abs(weak.centre[0] - right["center"][0]) < 2.0
+    (above,) = decode(heatmaps, config, heights, weak_above=0.5)  # above the threshold: nobody weak
+    assert not above.weak and np.allclose(above.box, alone[0].box)

@@ -3,6 +3,8 @@ which of each left/right pair is the left one where the network cannot tell."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -178,3 +180,20 @@ def test_people_crossing_close_keep_their_tracks_by_their_velocity():
         walking_left = _person(500.0 - 20.0 * k, 305.0, 0.0)
         people = tracker.update([walking_right, walking_left], k / 10.0)
         assert [person.track for person in people] == [1, 2]
+
+
+def test_weak_people_only_continue_tracks_seen_before():
+    def weak(person: Person) -> Person:
+        return replace(person, score=0.15, weak=True)
+
+    tracker = Tracker()
+    for k in range(3):
+        tracker.update([_person(300.0 + 5.0 * k, 300.0, 0.5)], k / 10.0)
+    # The person fades below the threshold and a weak peak appears far from everyone: the first continues the
+    # track with its own box, the second is dropped and starts no track.
+    people = tracker.update([weak(_person(315.0, 300.0, 0.5)), weak(_person(600.0, 300.0, 0.5))], 0.3)
+    assert [(p.track, p.weak, p.coasted) for p in people] == [(1, True, False)]
+    assert len(tracker.tracks) == 1
+    # A weak peak never starts a track, so it cannot continue one either.
+    fresh = Tracker()
+    assert fresh.update([weak(_person(300.0, 300.0, 0.5))], 0.0) == [] and fresh.tracks == []

@@ -87,11 +87,12 @@ class _Overlays:
 @handles_input_errors
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
+    source = FrameSource(args.input, args.frames)
+    rate = None if args.no_tracking else tracking_rate(source, args.fps)
+    tracker = Tracker() if rate else None
     with Runtime(args.bundle, threads=args.threads, parallel_regions=args.parallel_regions,
-                 public_key=args.public_key) as runtime:
-        source = FrameSource(args.input, args.frames)
-        rate = None if args.no_tracking else tracking_rate(source, args.fps)
-        tracker = Tracker() if rate else None
+                 public_key=args.public_key,
+                 weak_people_above=tracker.config.weak_people_above if tracker else None) as runtime:
         width, height = runtime.bundle.frame_size
         milliseconds, people_count, coasted_count = [], 0, 0
         with atomic_directory(args.output) as staging, open(staging / DETECTIONS, "w") as lines:
