@@ -122,8 +122,8 @@ def main(argv: list[str] | None = None) -> int:
                 "input_kind": source.kind, "frames": len(milliseconds), "people": people_count,
                 "regions": [{"name": r.name, "precision": r.precision} for r in runtime.bundle.regions],
                 "threads": args.threads, "parallel_regions": runtime.pool is not None,
-                "tracking": ({"fps": rate, "config": asdict(tracker.config), "people_carried": coasted_count}
-                             if tracker else None),
+                "tracking": ({"fps": rate, "config": asdict(tracker.config), "tracks": tracker.next_identity - 1,
+                              "people_carried": coasted_count} if tracker else None),
                 "ms_per_frame": {"mean": float(np.mean(milliseconds)), "median": float(np.median(milliseconds)),
                                  "p90": float(np.percentile(milliseconds, 90))},
             }
@@ -131,4 +131,8 @@ def main(argv: list[str] | None = None) -> int:
     timing = summary["ms_per_frame"]
     print(f"vc-run: {summary['frames']} frame(s), {people_count} people, {timing['median']:.1f} ms/frame median "
           f"({timing['mean']:.1f} mean, first frame included) -> {args.output}")
+    if summary["tracking"]:
+        tracking = summary["tracking"]
+        print(f"  tracked at {tracking['fps']:g} frames/s: {tracking['tracks']} tracks, "
+              f"{tracking['people_carried']} people carried through frames that missed them")
     return 0
