@@ -16,7 +16,7 @@ knowing the camera:
 
 People are upright in the views this project compiles (the decoder's prior assumes it), so the image axis is
 taken as the image vertical. Checked on ground-truth tracks (benchmarks/facing_from_motion.py,
-benchmarks/results/pose_facing_motion.md): the sign of the vertical foot motion agrees with YOLO11n-pose's reading
+benchmarks/results/tracking_real.md): the sign of the vertical foot motion agrees with YOLO11n-pose's reading
 of the shoulders for 90 % (PETS09) and 88 % (TUD-Stadtmitte) of the people whose facing it can read.
 
 Why carry people through frames: a network on single frames loses people for a frame or two when someone walks
@@ -101,13 +101,13 @@ class _Track:
         self.boxes = [self.boxes[k] for k in keep] + [np.asarray(box, np.float64)]
         self.observations += 1
 
-    def feet(self) -> np.ndarray:
-        return foot_points_of(np.array(self.boxes))
+    def shift(self, time_s: float) -> np.ndarray:
+        """How far (4,) the last box moves by ``time_s`` at the window's velocity, frame px."""
+        return box_velocity(np.array(self.times), np.array(self.boxes)) * (time_s - self.times[-1])
 
     def predicted_foot(self, time_s: float) -> np.ndarray:
         """Where the feet are at ``time_s`` if they keep the window's velocity."""
-        velocity = box_velocity(np.array(self.times), np.array(self.boxes))
-        return self.feet()[-1] + foot_points_of(velocity[None])[0] * (time_s - self.times[-1])
+        return foot_points_of(self.boxes[-1] + self.shift(time_s))[0]
 
 
 def tracking_rate(source: FrameSource, fps: float | None) -> float | None:
@@ -214,12 +214,10 @@ class Tracker:
     def _faced(self, person: Person, track: _Track) -> Person:
         """Steps 2-4 for one person whose track now ends with this frame."""
         config = self.config
-        times = np.array(track.times)
-        recent = times >= times[-1] - config.window_s
-        if recent.sum() < config.min_observations:
+        if len(track.times) < config.min_observations:  # the track holds its window's observations only
             return person
-        boxes = np.array(track.boxes)[recent]
-        speed, error = vertical_speed(times[recent], foot_points_of(boxes)[:, 1],
+        boxes = np.array(track.boxes)
+        speed, error = vertical_speed(np.array(track.times), foot_points_of(boxes)[:, 1],
                                       float(np.mean(boxes[:, 3] - boxes[:, 1])), config.foot_jitter_heights)
         clear = abs(speed) >= config.min_significance * error
         if speed == 0.0 or not (clear or abs(person.handedness) < config.trust_network):
@@ -234,13 +232,13 @@ class Tracker:
             elapsed = time_s - track.times[-1]
             if elapsed > config.coast_s or track.observations < config.coast_min_observations:
                 continue
-            shift = box_velocity(np.array(track.times), np.array(track.boxes)) * elapsed
+            shift = track.shift(time_s)
             box = track.boxes[-1] + shift
             if len(seen_boxes) and box_iou(box[None], seen_boxes).max() > config.coast_duplicate_iou:
                 continue
             last = track.last
             keypoints = last.keypoints.copy()
-            keypoints[:, :2] += ((shift[0] + shift[2]) / 2, shift[3])  # moved as the feet move
+            keypoints[:, :2] += foot_points_of(shift)[0]  # moved as the feet move
             carried.append(replace(last, score=last.score * float(np.exp(-elapsed / config.coast_score_decay_s)),
                                    box=box, keypoints=keypoints, mask=np.zeros((0, 0), bool),
                                    mask_origin=(0, 0), coasted=True))
