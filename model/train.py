@@ -142,6 +142,21 @@ def native_bf16() -> bool:
     return bool(cpu_facts()[1])
 
 
+#: Most data-loading processes feeding one GPU: 12 kept an H200 training the fast network at 600-720 images/s,
+#: its data, not its arithmetic, the limit (benchmarks/results/compile_gpu_pets09.md).
+GPU_DATA_WORKERS = 12
+
+
+def data_workers(device: torch.device) -> int:
+    """Data-loading processes for training on ``device``. On the CPU one: the training step already takes every
+    core, and a second loader only competes with it. On a GPU the step takes milliseconds and decoding the PNG
+    windows is the limit, so every core but two (the main process and the system), at most
+    :data:`GPU_DATA_WORKERS`."""
+    if device.type == "cpu":
+        return 1
+    return max(1, min(GPU_DATA_WORKERS, usable_cores() - 2))
+
+
 def select_device() -> torch.device:
     """CUDA when torch sees a GPU; otherwise the CPU with one thread per core this process may use."""
     if torch.cuda.is_available():

@@ -106,6 +106,11 @@ class PeopleRenderer:
         mi = mitsuba()
         self.camera, self.spp, self.max_people, self.vertex_count = camera, spp, max_people, vertex_count
         self.shadows = shadows
+        # OptiX (the CUDA variant's ray tracer) traces one scene per kernel: a kernel that also tests rays against
+        # the people-free scene gets those tests switched off ("more than one OptiX shader binding table"), seen
+        # on an H200 (benchmarks/results/compile_gpu_pets09.md). There the static scene's tests run in a kernel of
+        # their own; Embree (the CPU variant) has no such limit and keeps one kernel, and its bytes.
+        self.one_scene_per_kernel = mi.variant().startswith("cuda")
         self.view = ideal_view(camera)
         ideal = self.view.ideal
         scene_dict = layout_scene_dict(layout, illumination, perspective_sensor(ideal, spp), seed=texture_seed)
@@ -325,6 +330,9 @@ class PeopleRenderer:
 
         values = {"radiance_r": radiance.x, "radiance_g": radiance.y, "radiance_b": radiance.z}
         if self.shadows:
+            if self.one_scene_per_kernel:
+                dr.eval(radiance, slot, sun_open, sky_open, sun_cosine, on_static, gradation,
+                        sun_ray.o, sun_ray.d, sky_ray.o, sky_ray.d)
             sun_closed_static = self.static_scene.ray_test(sun_ray, active=on_static & (sun_cosine > 0))
             sky_closed_static = self.static_scene.ray_test(sky_ray, active=on_static)
             values["sun_with"] = dr.select(on_static & sun_open, sun_cosine, 0.0)

@@ -12,7 +12,7 @@ import torch
 from vc.errors import InputError
 from vc.evaluation.plots import plot_precision_recall
 from vc.io import write_json
-from vc.model.train import RegionResult, TrainConfig, select_device
+from vc.model.train import RegionResult, TrainConfig, data_workers, select_device
 from vc.render.dataset import read_manifest
 from vc.stages.config import TrainSettings
 from vc.stages.executors import Executor, InProcess, RegionTask, train_region
@@ -27,6 +27,7 @@ class TrainingJob:
     settings: TrainSettings
     config: TrainConfig
     device: torch.device
+    workers: int  # data-loading processes per region
 
     def run(self, run: Path, show_progress: bool = True, executor: Executor | None = None) -> list[RegionResult]:
         """Train (or resume) every region, evaluate each on its held-out renders, and write ``RUN/metrics.json``
@@ -35,7 +36,7 @@ class TrainingJob:
         cluster, silently)."""
         executor = executor or InProcess()
         here = isinstance(executor, InProcess)
-        tasks = [RegionTask(self.dataset, name, self.config, run, self.settings.workers, show_progress and here)
+        tasks = [RegionTask(self.dataset, name, self.config, run, self.workers, show_progress and here)
                  for name in self.regions]
         by_index = dict(executor.map_unordered(train_region, tasks))
         results = [by_index[index] for index in range(len(tasks))]
@@ -48,7 +49,9 @@ class TrainingJob:
 
 def prepare_training(dataset: Path, settings: TrainSettings, region_names: list[str] | None = None) -> TrainingJob:
     """The regions to train (all of the dataset's by default), the full training config and the device."""
-    return TrainingJob(dataset, _regions(dataset, region_names), settings, settings.train_config(), select_device())
+    device = select_device()
+    workers = data_workers(device) if settings.workers == "auto" else settings.workers
+    return TrainingJob(dataset, _regions(dataset, region_names), settings, settings.train_config(), device, workers)
 
 
 def train(dataset: Path, run: Path, settings: TrainSettings, region_names: list[str] | None = None,

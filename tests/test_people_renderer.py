@@ -123,6 +123,23 @@ def test_shadow_pass_darkens_the_ground_where_the_sun_is_blocked_and_only_there(
     assert (passes.shadow <= 1.0 + 1e-6).all()
 
 
+def test_static_scene_tests_in_a_kernel_of_their_own_give_the_same_passes() -> None:
+    """The CUDA variant's path (OptiX traces one scene per kernel) computes what the CPU's single kernel does."""
+    lighting = explicit_illumination(Lighting(sun_azimuth_deg=30.0, sun_elevation_deg=40.0, sun_strength=3.0,
+                                                   sky_strength=1.0))
+    layout = Layout(walkable=LAYOUT.walkable, obstacles=[Box(type="box", center=[-0.8, 0.4, 0.5], size=[0.4, 0.4, 1.0])])
+    renderer = PeopleRenderer(IDEAL, layout, lighting, np.asarray(SPHERE.faces), len(SPHERE.vertices), max_people=2,
+                              spp=8)
+    people = [_sphere(SPHERE_CENTRES[0]), _sphere(SPHERE_CENTRES[2], albedo=0.3)]
+    assert not renderer.one_scene_per_kernel  # the CPU variant
+    one_kernel = renderer.render(people, seed=3)
+    renderer.one_scene_per_kernel = True
+    split = renderer.render(people, seed=3)
+    assert (one_kernel.shadow < 0.9).any()  # the static scene's tests matter here
+    for name in ("beauty", "alpha", "coverage", "shadow", "depth"):
+        np.testing.assert_allclose(getattr(split, name), getattr(one_kernel, name), rtol=1e-5, atol=1e-6)
+
+
 @pytest.mark.parametrize(("elevation", "azimuth", "sky_model"), [
     (0.3, 0.0, "uniform"),  # the sun on the horizon: shadows kilometres long
     (89.9, 0.0, "uniform"),  # overhead

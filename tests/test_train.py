@@ -13,6 +13,7 @@ import torch
 from conftest import rewrite_checkpoint
 from dataset_factory import INPUT_SIZE, write_dataset
 
+import vc.model.train as vc_model_train
 from vc.cli.train import main as vc_train
 from vc.deploy.heatmaps import HEATMAP_CHANNELS
 from vc.errors import InputError
@@ -25,6 +26,7 @@ from vc.model.train import (
     RegionTrainer,
     TrainConfig,
     checkpoint_path,
+    data_workers,
     forward,
     learning_rate_factor,
     load_checkpoint,
@@ -262,3 +264,10 @@ def test_width_and_sb_units_override_the_preset(flat_dataset, tmp_path):
 def test_a_width_the_bottleneck_cannot_divide_is_refused(flat_dataset, tmp_path, capsys):
     assert vc_train([str(flat_dataset), "-o", str(tmp_path / "run"), "--width", "15"]) == 2
     assert "sb_reduction must be >= 1 and divide width 15" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(("cores", "gpu_workers"), [(16, 12), (64, 12), (6, 4), (2, 1), (1, 1)])
+def test_data_workers_feed_a_gpu_from_every_core_but_two(monkeypatch, cores: int, gpu_workers: int) -> None:
+    monkeypatch.setattr(vc_model_train, "usable_cores", lambda: cores)
+    assert data_workers(torch.device("cuda")) == gpu_workers
+    assert data_workers(torch.device("cpu")) == 1  # the training step takes the cores there

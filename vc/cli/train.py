@@ -42,16 +42,22 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--batch-size", type=positive_int, default=defaults.batch_size,
                         help=f"images per step (default {defaults.batch_size})")
     parser.add_argument("--seed", type=int, default=defaults.seed, help="seed of weights and data order")
-    parser.add_argument("--workers", type=non_negative_int, default=defaults.workers,
-                        help=f"data-loading processes (default {defaults.workers})")
+    parser.add_argument("--workers", type=_workers, default=defaults.workers, metavar="N|auto",
+                        help="data-loading processes (default auto: 1 on the CPU, on a GPU every core but two, "
+                             "at most 12)")
     parser.add_argument("--quiet", action="store_true", help="no progress bars")
     return parser
+
+
+def _workers(value: str) -> int | str:
+    return value if value == "auto" else non_negative_int(value)
 
 
 def report_job(job: TrainingJob) -> None:
     print(f"vc-train: {len(job.regions)} region(s) of {job.dataset}, {job.config.network.name} network, "
           f"{job.config.steps} steps of {job.config.batch_size}, on {job.device.type} in "
-          f"{'bf16' if job.config.bf16_autocast else 'fp32'}{' channels-last' if job.config.channels_last else ''}")
+          f"{'bf16' if job.config.bf16_autocast else 'fp32'}{' channels-last' if job.config.channels_last else ''}, "
+          f"{job.workers} data loader(s)")
 
 
 def report_results(results: list[RegionResult], run: Path) -> None:
