@@ -29,11 +29,11 @@ from vc.model.train import centre_map_settings
 STRIDE = 4
 WIDTH, HEIGHT = 256, 192
 #: A standing person facing the camera (its left side on the image's right): COCO keypoints as fractions of its
-#: height, relative to the centre (x right, y down).
+#: height, relative to the centre (x right, y down); both feet planted, so both ankles where the lower one is.
 BODY = np.array([
-    [0.0, -0.43], [0.02, -0.45], [-0.02, -0.45], [0.05, -0.44], [-0.05, -0.44],
-    [0.11, -0.32], [-0.11, -0.32], [0.14, -0.14], [-0.14, -0.14], [0.15, 0.02], [-0.15, 0.02],
-    [0.07, 0.02], [-0.07, 0.02], [0.08, 0.25], [-0.08, 0.25], [0.08, 0.46], [-0.08, 0.46],
+    [0.0, -0.415], [0.02, -0.435], [-0.02, -0.435], [0.05, -0.425], [-0.05, -0.425],
+    [0.11, -0.305], [-0.11, -0.305], [0.14, -0.155], [-0.14, -0.155], [0.15, -0.02], [-0.15, -0.02],
+    [0.07, -0.015], [-0.07, -0.015], [0.08, 0.2], [-0.08, 0.2], [0.08, 0.44], [-0.08, 0.44],
 ])
 
 
