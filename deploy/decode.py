@@ -174,7 +174,6 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     peaks = find_peaks(heatmaps[CENTRE_CHANNEL], floor, config.max_people)
     if not peaks:
         return []
-    rows, columns = np.indices((height, width))
     centres_cells = np.array([centre for _, centre in peaks])
     heights_px = np.array([
         config.default_height_px if expected_height_px is None
@@ -187,13 +186,14 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     strong = np.array([score >= config.centre_threshold for score, _ in peaks])
 
     # Mask cells go to the nearest centre, distance measured in expected heights (a strong person's, to the
-    # nearest strong centre: weak people take nothing from them).
-    distance = np.hypot(columns[None] - centres_cells[:, 0, None, None], rows[None] - centres_cells[:, 1, None, None])
-    scaled = distance / heights_cells[:, None, None]
+    # nearest strong centre: weak people take nothing from them). Only foreground cells are owned, so only they
+    # are measured: a frame's people cover a small part of it.
+    mask_rows, mask_columns = np.nonzero(heatmaps[MASK_CHANNEL] > config.mask_threshold)
+    scaled = np.hypot(mask_columns[None] - centres_cells[:, 0, None],
+                      mask_rows[None] - centres_cells[:, 1, None]) / heights_cells[:, None]  # (N, foreground cells)
     owner = np.argmin(scaled, axis=0)
     strong_indices = np.flatnonzero(strong)
     owner_among_strong = strong_indices[np.argmin(scaled[strong_indices], axis=0)] if len(strong_indices) else owner
-    foreground = heatmaps[MASK_CHANNEL] > config.mask_threshold
 
     people = []
     keypoint_maps = heatmaps[KEYPOINT_CHANNELS]
@@ -209,9 +209,11 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
             pair_handedness = heatmaps[HANDEDNESS_CHANNELS, row, column]
             # A negative handedness: the pair's image-left member is the person's right one.
             keypoints = swap_pairs(keypoints, pair_handedness < 0)
-        within_reach = ((np.abs(columns - centre_cells[0]) <= config.reach_sideways * heights_cells[index])
-                        & (np.abs(rows - centre_cells[1]) <= config.reach_vertical * heights_cells[index]))
-        mask_cells = foreground & ((owner_among_strong if strong[index] else owner) == index) & within_reach
+        within_reach = ((np.abs(mask_columns - centre_cells[0]) <= config.reach_sideways * heights_cells[index])
+                        & (np.abs(mask_rows - centre_cells[1]) <= config.reach_vertical * heights_cells[index]))
+        owned = ((owner_among_strong if strong[index] else owner) == index) & within_reach
+        mask_cells = np.zeros((height, width), bool)
+        mask_cells[mask_rows[owned], mask_columns[owned]] = True
         centre = cells_to_input(centre_cells, stride)
         people.append(DecodedPerson(score=score, centre=centre, keypoints=keypoints,
                                     box=_box(centre, heights_px[index], keypoints, mask_cells, config),
