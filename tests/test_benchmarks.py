@@ -401,3 +401,23 @@ def test_the_scene_copy_finds_the_video_of_the_scene(tmp_path):
                                                           quiet=True, paired_runtime=False))
     copied = yaml.safe_load(sweep.scene(BASE).read_text())
     assert copied["video"] == str((folder / "frames").resolve())
+
+
+def test_render_comparison_counts_the_pixels_two_backends_disagree_on(tmp_path):
+    """benchmarks/device/compare_renders.py: the GPU check's verdict on two renders of the same samples."""
+    from conftest import load_script
+
+    from vc.io import write_image
+
+    compare = load_script(REPO / "benchmarks" / "device" / "compare_renders.py", "compare_renders").compare
+    rng = np.random.default_rng(0)
+    image = rng.integers(0, 256, (20, 50, 3), dtype=np.uint8)
+    off = image.copy()
+    off[0, :10] = np.clip(off[0, :10].astype(int) + 3, 0, 255)  # 10 pixels more than 2 levels apart...
+    off[1] ^= 1  # ...and a row within rounding
+    for root, picture in ((tmp_path / "a", image), (tmp_path / "b", off)):
+        write_image(root / "r0" / "shard-00000" / "images" / "000000.png", picture)
+    row = compare(tmp_path / "a", tmp_path / "b")["r0"]
+    changed = (np.abs(off.astype(int) - image).max(axis=-1) > 2).sum()
+    assert row["images"] == 1 and changed >= 1
+    assert row["share_over_2_levels"] == pytest.approx(changed / 1000, abs=1e-5)

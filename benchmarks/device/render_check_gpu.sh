@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# A short device check (about 2 minutes of a lent GPU): PETS09 samples rendered with Mitsuba's cuda_ad_rgb, to
+# compare with the same samples rendered here on the CPU (benchmarks/device/compare_renders.py). Each sample's
+# people, light, noise and ray seeds come from its index, so the two backends must agree up to float rounding;
+# the OptiX fault of 2026-11-26 (compile_gpu_pets09.md) put 1.4-1.6 % of r0/r1 pixels more than 2 levels off.
+# Needs .gpu/ (pack_gpu.sh) carried. Writes $OUT/renders.tar (the samples) and $OUT/render.log.
+set -uo pipefail
+export PYTHONUNBUFFERED=1
+site=/tmp/vc-site
+if [ ! -f "$site/vc/__init__.py" ]; then
+    mkdir -p "$site" /tmp/anny-cache
+    tar -xJf .gpu/site.tar.xz -C "$site" && tar -xJf .gpu/anny_cache.tar.xz -C /tmp/anny-cache || exit 1
+fi
+export PYTHONPATH=$site ANNY_CACHE_DIR=/tmp/anny-cache
+cd .gpu  # the checkout's own vc/ would shadow the installed package
+rm -rf /tmp/gpu-renders
+python3 -c "import sys; from vc.cli.render import main; sys.argv[0] = 'vc-render'; sys.exit(main())" \
+    pets09.yaml -o /tmp/gpu-renders --samples "${SAMPLES:-20}" --quiet 2>&1 | tee "$OUT/render.log" \
+    | grep -v "shader binding table" ; grep -c "shader binding table" "$OUT/render.log" | sed 's/^/OptiX warnings: /'
+tar -cf "$OUT/renders.tar" -C /tmp gpu-renders
