@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # A short device check (about 2 minutes of a lent GPU): PETS09 samples rendered with Mitsuba's cuda_ad_rgb, to
-# compare with the same samples rendered here on the CPU (benchmarks/device/compare_renders.py). Each sample's
+# compare with the same samples rendered here on the CPU from the same scene file (`vc-render .gpu/pets09.yaml -o DIR
+# --samples 20`; a sample's draws follow from the scene file's bytes), by benchmarks/device/compare_renders.py. Each sample's
 # people, light, noise and ray seeds come from its index, so the two backends must agree up to float rounding;
 # the OptiX fault of 2026-11-26 (compile_gpu_pets09.md) put 1.4-1.6 % of r0/r1 pixels more than 2 levels off.
 # Needs .gpu/ (pack_gpu.sh) carried. Writes $OUT/renders.tar (the samples) and $OUT/render.log.
