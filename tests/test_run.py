@@ -122,3 +122,23 @@ def test_vc_run_refuses_bad_input_and_writes_nothing(bundle, tmp_path, capsys, c
     assert vc_run([str(bundle_path), str(input_path), "-o", str(tmp_path / "out"), "--overlay", "--quiet"]) == 2
     assert re.search(expected, capsys.readouterr().err)
     assert not (tmp_path / "out").exists() and not list(tmp_path.glob(".out.*"))
+
+
+def _person_at(region: str, score: float, box: list[float]):
+    from vc.deploy.runtime import Person
+
+    return Person(region, score, np.array(box, float), np.zeros((17, 3)), np.zeros((0, 0), bool), (0, 0))
+
+
+def test_one_person_kept_by_two_regions_at_their_seam_is_reported_once() -> None:
+    """PETS09 frame 1: one walker kept by r1 (feet at y 319, its side of the seam) and by r2 (y 323, its side)."""
+    from vc.deploy.runtime import without_seam_duplicates
+
+    r1, r2 = _person_at("r1", 1.02, [641, 237, 684, 319]), _person_at("r2", 0.77, [640, 242, 684, 323])
+    assert without_seam_duplicates([r1, r2]) == [r1]
+    # One region's people overlapping as much are two people (one behind another): the decoder separated them.
+    behind = _person_at("r1", 0.77, [640, 242, 684, 323])
+    assert without_seam_duplicates([r1, behind]) == [r1, behind]
+    # People of two regions side by side stay two.
+    beside = _person_at("r2", 0.77, [670, 240, 712, 322])
+    assert without_seam_duplicates([r1, beside]) == [r1, beside]
