@@ -127,7 +127,8 @@ def test_static_scene_tests_in_a_kernel_of_their_own_give_the_same_passes() -> N
     """The CUDA variant's path (OptiX traces one scene per kernel) computes what the CPU's single kernel does."""
     lighting = explicit_illumination(Lighting(sun_azimuth_deg=30.0, sun_elevation_deg=40.0, sun_strength=3.0,
                                                    sky_strength=1.0))
-    layout = Layout(walkable=LAYOUT.walkable, obstacles=[Box(type="box", center=[-0.8, 0.4, 0.5], size=[0.4, 0.4, 1.0])])
+    obstacle = Box(type="box", center=[-0.8, 0.4, 0.5], size=[0.4, 0.4, 1.0])
+    layout = Layout(walkable=LAYOUT.walkable, obstacles=[obstacle])
     renderer = PeopleRenderer(IDEAL, layout, lighting, np.asarray(SPHERE.faces), len(SPHERE.vertices), max_people=2,
                               spp=8)
     people = [_sphere(SPHERE_CENTRES[0]), _sphere(SPHERE_CENTRES[2], albedo=0.3)]

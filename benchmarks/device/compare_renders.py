@@ -30,6 +30,9 @@ def compare(first: Path, second: Path) -> dict[str, dict]:
         differences = []
         for image in images:
             other = second / image.relative_to(first)
+            if not other.is_file():
+                raise FileNotFoundError(f"{other}: not in the second dataset (render the same samples of the same "
+                                        f"scene file there)")
             a = read_image(image).astype(np.int16)
             b = read_image(other).astype(np.int16)
             differences.append(np.abs(a - b).max(axis=-1))
@@ -44,7 +47,13 @@ def main() -> None:
     parser.add_argument("first", type=Path)
     parser.add_argument("second", type=Path)
     args = parser.parse_args()
-    result = compare(args.first, args.second)
+    for folder in (args.first, args.second):
+        if not folder.is_dir():
+            parser.error(f"{folder}: not a folder")
+    try:
+        result = compare(args.first, args.second)
+    except FileNotFoundError as error:
+        parser.error(str(error))
     for region, row in result.items():
         print(f"{region}: {row['images']} images, mean |difference| {row['mean_abs_levels']} levels, "
               f"{100 * row['share_over_2_levels']:.3f} % of pixels over 2 levels")

@@ -43,8 +43,7 @@ def _parser() -> argparse.ArgumentParser:
                         help=f"images per step (default {defaults.batch_size})")
     parser.add_argument("--seed", type=int, default=defaults.seed, help="seed of weights and data order")
     parser.add_argument("--workers", type=_workers, default=defaults.workers, metavar="N|auto",
-                        help="data-loading processes (default auto: 1 on the CPU, on a GPU every core but two, "
-                             "at most 12)")
+                        help=f"{TrainSettings.model_fields['workers'].description} (default {defaults.workers})")
     parser.add_argument("--quiet", action="store_true", help="no progress bars")
     return parser
 
