@@ -23,6 +23,8 @@ steps, per-region models, fp32) with one knob changed (:data:`KNOBS`):
 - ``groups``: people placed alone (the standard compile) or with the scene's ``priors.group_rate`` at 0.3 (a
   person starts a group of 2-4 walking abreast or in file; ``render/placement.py``), each with training seeds
   0, 1 and 2 (renders shared);
+- ``clothing``: what the people wear (``priors.clothing``): the scene's own mixed street clothing against winter
+  coats, each with training seeds 0, 1 and 2 (renders shared) and the compute knob's faster trainer;
 - ``compute``: the trainer in fp32 (the standard compile) or in bfloat16 autocast with channels-last activations
   (``TRAINING_COMPUTE``; about twice the images per second where the CPU has bf16 instructions), with training
   seeds 0, 1 and 2: whether the faster compile holds accuracy.
@@ -98,6 +100,7 @@ class Point:
     photometry: str = "matched"  # see PHOTOMETRY; points stored before the knob were "off"
     group_rate: float | None = None  # None: the scene's own priors.group_rate
     compute: str = "fp32"  # the trainer's compute settings, a name of TRAINING_COMPUTE
+    clothing: str | None = None  # None: the scene's own priors.clothing
 
     def key(self, *fields: str) -> str:
         values = {name: getattr(self, name) for name in fields}
@@ -107,7 +110,8 @@ class Point:
         # "off" keeps the keys of the renders made before photometric matching (they were rendered so), and the
         # scene's own group rate those made before the groups knob
         return (("photometry",) if self.photometry != "off" else ()) + (
-            ("group_rate",) if self.group_rate is not None else ())
+            ("group_rate",) if self.group_rate is not None else ()) + (
+            ("clothing",) if self.clothing is not None else ())
 
     def render_key(self) -> str:
         return self.key("spp", "effects", "samples", "target_person_px", "single_region", *self._rendered_as())
@@ -148,6 +152,10 @@ KNOBS: dict[str, dict[str, Point]] = {
     # the faster trainer against the standard compile's own seeds (the photometry seeds, 0.883-0.891)
     "compute": {"fp32": BASE, **{f"bf16 channels-last, seed {seed}": replace(BASE, compute="bf16 channels-last",
                                                                             train_seed=seed) for seed in (0, 1, 2)}},
+    # what the people wear (priors.clothing), with the faster trainer of the compute knob and its seeds
+    "clothing": {f"{clothing}, seed {seed}": replace(BASE, compute="bf16 channels-last", train_seed=seed,
+                                                     clothing=clothing)
+                 for clothing in ("mixed", "winter") for seed in (0, 1, 2)},
 }
 
 
@@ -228,6 +236,8 @@ class Sweep:
             document.update(self.photometry_overrides(point.photometry))
         if point.group_rate is not None:
             document["priors"] = {**document.get("priors", {}), "group_rate": point.group_rate}
+        if point.clothing is not None:
+            document["priors"] = {**document.get("priors", {}), "clothing": point.clothing}
         path = self.work / "scenes" / f"{point.render_key()}.yaml"
         with atomic_path(path) as temporary:
             temporary.write_text(yaml.safe_dump(document, sort_keys=False))
@@ -293,11 +303,15 @@ class Sweep:
 
     def as_compiled(self, point: Point) -> Point:
         """``point`` with a knob value that is the scene's own setting left unset: the same compile as the standard
-        one, so it shares its keys (PETS plans 48 px people: ``input 48 px`` is the standard point, not a copy)."""
+        one, so it shares its keys (PETS plans 48 px people: ``input 48 px`` is the standard point, not a copy; its
+        people wear the mixed clothing: ``mixed`` is the compute knob's point)."""
         from vc.scenes.loader import load_scene
 
-        if point.target_person_px == load_scene(self.scene_yaml).regions.target_person_px:
-            return replace(point, target_person_px=None)
+        scene = load_scene(self.scene_yaml)
+        if point.target_person_px == scene.regions.target_person_px:
+            point = replace(point, target_person_px=None)
+        if point.clothing == scene.priors.clothing:
+            point = replace(point, clothing=None)
         return point
 
     def measure(self, knob: str, value: str, point: Point) -> dict:

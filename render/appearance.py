@@ -4,6 +4,12 @@ A person 100-200 px tall shows its clothing as a few flat colours, so per-part a
 Mitsuba's ``diffuse`` BSDF takes) carry what matters to a detector: skin tones across ethnicities, hair or a
 bald head, garments mostly dark or neutral with some colour, and short sleeves or shorts that bare the
 ``forearms`` and ``shins`` parts (:data:`vc.render.bodies.BODY_PARTS`).
+
+What people wear follows the scene's ``priors.clothing`` (:data:`WARDROBES`): ``mixed`` (the default, street
+clothing of a mild day), ``winter`` (coats and jackets, mostly black, grey and navy; long sleeves and trousers; a
+third with a hat or hood) or ``summer`` (short sleeves and bare legs for most, lighter colours). The colour
+frequencies are this project's assumptions from street observation, not a published survey: what matters to a
+detector is that the renders' people are as dark, as uniform and as covered as the scene's people are.
 """
 
 from __future__ import annotations
@@ -62,9 +68,43 @@ _SHOES = _palette({
     "#1e1e1e": 40, "#3b2a20": 12, "#e8e8e6": 20, "#6f6f6f": 10, "#1f2a44": 5, "#a0784f": 6, "#b22222": 3,
     "#1f5fbf": 4})
 
-SHORT_SLEEVES = 0.35  # probability of bare forearms
-BARE_SHINS = 0.15  # shorts, or a skirt or dress above the knee
 DRESS = 0.25  # of bare shins on a woman: a dress, one colour from shoulders to knees
+
+
+@dataclass(frozen=True)
+class Wardrobe:
+    """What the people of a scene wear: garment palettes, how often arms and shins are bare, and how often a hat
+    or hood covers the hair (its colour from ``headwear``)."""
+
+    upper: tuple[np.ndarray, np.ndarray]
+    lower: tuple[np.ndarray, np.ndarray]
+    shoes: tuple[np.ndarray, np.ndarray]
+    short_sleeves: float  # probability of bare forearms
+    bare_shins: float  # shorts, or a skirt or dress above the knee
+    headwear: float = 0.0
+    headwear_colours: tuple[np.ndarray, np.ndarray] | None = None
+
+
+_MIXED = Wardrobe(_UPPER, _LOWER, _SHOES, short_sleeves=0.35, bare_shins=0.15)
+# Winter outerwear: coats, parkas and jackets over trousers; boots and dark shoes.
+_WINTER = Wardrobe(
+    upper=_palette({
+        "#1c1c1c": 30, "#333335": 14, "#55565a": 8, "#1f2a44": 14, "#3b2a20": 6, "#4b5320": 5, "#b39b72": 5,
+        "#5e1a24": 4, "#808083": 5, "#a52a2a": 2, "#27408b": 2, "#c8c8c6": 3, "#1e3d2f": 2}),
+    lower=_palette({
+        "#1c1c1c": 30, "#333335": 14, "#2c3e5c": 14, "#3b5998": 8, "#1f2a44": 8, "#5c4033": 4, "#a89a7a": 4,
+        "#6a6a6c": 6}),
+    shoes=_palette({"#151515": 50, "#3b2a20": 20, "#e8e8e6": 10, "#5a5a5a": 10, "#8a6440": 10}),
+    short_sleeves=0.0, bare_shins=0.0, headwear=0.35,
+    headwear_colours=_palette({"#151515": 50, "#333335": 20, "#1f2a44": 15, "#6f6f6f": 10, "#9b1b1b": 5}))
+# Summer: short sleeves and bare legs for most, more white and light colours than the mild-day mix.
+_SUMMER = Wardrobe(
+    upper=_palette({
+        "#e6e4df": 22, "#b5b5b3": 8, "#2a2a2a": 12, "#1f2a44": 8, "#9ec3e6": 8, "#5a7da6": 6, "#e7a1b0": 5,
+        "#c2b280": 6, "#b22222": 5, "#e1ad01": 4, "#2e8b57": 4, "#e07b24": 3, "#7f7f80": 6, "#5b3a78": 3}),
+    lower=_LOWER, shoes=_SHOES, short_sleeves=0.75, bare_shins=0.45)
+#: ``priors.clothing`` -> what the scene's people wear.
+WARDROBES: dict[str, Wardrobe] = {"mixed": _MIXED, "winter": _WINTER, "summer": _SUMMER}
 
 
 @dataclass(frozen=True)
@@ -77,8 +117,10 @@ class Appearance:
         return {"part_albedo": {part: [round(c, 4) for c in rgb] for part, rgb in self.part_albedo.items()}}
 
 
-def sample_appearance(rng: np.random.Generator, phenotype: Phenotype) -> Appearance:
-    """Skin from the ethnicity mixture, hair from ethnicity and age (greying, male baldness), clothes."""
+def sample_appearance(rng: np.random.Generator, phenotype: Phenotype, wardrobe: Wardrobe = _MIXED) -> Appearance:
+    """Skin from the ethnicity mixture, hair from ethnicity and age (greying, male baldness), clothes from the
+    ``wardrobe``. The mixed wardrobe draws no random numbers for headwear, so its people are what they were before
+    wardrobes existed."""
     ethnicity = np.asarray(phenotype.ethnicity, dtype=np.float64)
     skin = _skin_albedo(rng, ethnicity)
 
@@ -91,9 +133,12 @@ def sample_appearance(rng: np.random.Generator, phenotype: Phenotype) -> Appeara
         weights = _HAIR_FREQUENCY @ ethnicity
         hair = _HAIR[rng.choice(len(_HAIR), p=weights / weights.sum())]
     hair = _jitter(rng, hair, 0.2)
-    upper, lower, shoes = (_jitter(rng, _pick(rng, palette), 0.15) for palette in (_UPPER, _LOWER, _SHOES))
-    short_sleeves = rng.random() < SHORT_SLEEVES
-    bare_shins = rng.random() < BARE_SHINS
+    upper, lower, shoes = (_jitter(rng, _pick(rng, palette), 0.15)
+                           for palette in (wardrobe.upper, wardrobe.lower, wardrobe.shoes))
+    short_sleeves = rng.random() < wardrobe.short_sleeves
+    bare_shins = rng.random() < wardrobe.bare_shins
+    if wardrobe.headwear and rng.random() < wardrobe.headwear:
+        hair, bald = _jitter(rng, _pick(rng, wardrobe.headwear_colours), 0.15), False
     if bare_shins and rng.random() < DRESS * (1.0 - male):
         lower = upper
     albedo = {"skin": skin, "hair": skin if bald else hair, "upper": upper, "lower": lower, "shoes": shoes,

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from vc.io import read_image
-from vc.render.appearance import sample_appearance, vertex_albedo
+from vc.render.appearance import WARDROBES, sample_appearance, vertex_albedo
 from vc.render.bodies import BodyModel, sample_gait, sample_phenotype
 from vc.render.effects import MovingPerson, SampleLayers, build_effects
 from vc.render.labels import PersonTruth, instance_map, person_annotation
@@ -87,7 +87,8 @@ class RegionSynthesizer:
         placements = self.placements.sample(int(rng.integers(0, self.max_people + 1)), rng)
         phenotypes = [sample_phenotype(rng, tuple(self.scene.priors.height_m)) for _ in placements]
         gaits = [sample_gait(rng) for _ in placements]
-        appearances = [sample_appearance(rng, phenotype) for phenotype in phenotypes]
+        wardrobe = WARDROBES[self.scene.priors.clothing]
+        appearances = [sample_appearance(rng, phenotype, wardrobe) for phenotype in phenotypes]
         render_seed = int(rng.integers(0, 2**32))
         effects_rng = np.random.default_rng(rng.integers(0, 2**63))
         posed = self.bodies.pose(phenotypes, gaits) if placements else None

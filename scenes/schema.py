@@ -124,6 +124,9 @@ class Priors(StrictModel):
     #: Ground per person where the scene is at its busiest (m2): about 40 for a quiet plaza (the default), 10 for
     #: a busy pavement, 3 for a crowd. Sets how many people a sample holds (render/placement.py).
     m2_per_person: float = Field(40.0, ge=1.0)
+    #: What the people wear (render/appearance.py WARDROBES): ``mixed`` street clothing of a mild day (the
+    #: default), ``winter`` coats (mostly black, grey and navy; a third with a hat or hood) or ``summer``.
+    clothing: Literal["mixed", "winter", "summer"] = "mixed"
 
     @field_validator("height_m")
     @classmethod

@@ -7,16 +7,17 @@ import json
 import colour
 import numpy as np
 
-from vc.render.appearance import Appearance, sample_appearance, vertex_albedo
+from vc.render.appearance import WARDROBES, Appearance, sample_appearance, vertex_albedo
 from vc.render.bodies import BODY_PARTS, Phenotype, sample_phenotype
 
 
-def appearances(count: int, seed: int = 0, **changes) -> list[Appearance]:
+def appearances(count: int, seed: int = 0, clothing: str | None = None, **changes) -> list[Appearance]:
     rng = np.random.default_rng(seed)
     result = []
     for _ in range(count):
-        phenotype = sample_phenotype(rng)
-        result.append(sample_appearance(rng, Phenotype(**{**phenotype.__dict__, **changes})))
+        phenotype = Phenotype(**{**sample_phenotype(rng).__dict__, **changes})
+        result.append(sample_appearance(rng, phenotype) if clothing is None
+                      else sample_appearance(rng, phenotype, WARDROBES[clothing]))
     return result
 
 
@@ -70,3 +71,31 @@ def test_vertex_albedo_looks_up_each_vertex_part() -> None:
     assert albedo.shape == (len(parts), 3) and albedo.dtype == np.float32
     for vertex, part in enumerate(parts):
         np.testing.assert_allclose(albedo[vertex], appearance.part_albedo[BODY_PARTS[part]], rtol=1e-6)
+
+
+def luminances(sample: list[Appearance], part: str) -> np.ndarray:
+    return np.array([a.part_albedo[part] for a in sample]) @ np.array([0.2126, 0.7152, 0.0722])
+
+
+def test_the_mixed_wardrobe_is_the_default_and_draws_the_same_people() -> None:
+    # scenes without priors.clothing keep the bytes of their renders
+    assert appearances(200, seed=6) == appearances(200, seed=6, clothing="mixed")
+
+
+def test_winter_people_are_darker_and_covered_and_summer_people_lighter_and_bare() -> None:
+    mixed, winter, summer = (appearances(1500, seed=7, clothing=name) for name in ("mixed", "winter", "summer"))
+    for part in ("upper", "lower"):
+        assert np.median(luminances(winter, part)) < 0.7 * np.median(luminances(mixed, part)), part
+    assert np.percentile(luminances(winter, "upper"), 75) < 0.12  # a light coat is the exception
+    assert np.median(luminances(summer, "upper")) > 2.0 * np.median(luminances(mixed, "upper"))
+
+    def bare(sample: list[Appearance], part: str, garment: str) -> float:
+        return float(np.mean([a.part_albedo[part] == a.part_albedo["skin"] != a.part_albedo[garment]
+                              for a in sample]))
+
+    assert bare(winter, "forearms", "upper") == 0.0 and bare(winter, "shins", "lower") == 0.0
+    assert bare(summer, "forearms", "upper") > 0.6 and bare(summer, "shins", "lower") > 0.35
+    # hats and hoods: a third of winter heads wear the headwear palette's colours, dark as the coats
+    covered = np.mean([a.part_albedo["hair"] != a.part_albedo["skin"] for a in winter])
+    assert covered > np.mean([a.part_albedo["hair"] != a.part_albedo["skin"] for a in mixed])
+    assert np.median(luminances(winter, "hair")) < 0.06

@@ -56,6 +56,7 @@ CASES = {
     "not a rotation": (modified(_set("camera.R", [[2, 0, 0], [0, 1, 0], [0, 0, 1]])), "camera: R must be a rotation"),
     "bad distortion": (modified(_set("camera.distortion", {"model": "opencv", "k": [0.1]})), "camera.distortion"),
     "height prior reversed": (modified(lambda s: s.update(priors={"height_m": [1.9, 1.5]})), "priors.height_m"),
+    "unknown clothing": (modified(lambda s: s.update(priors={"clothing": "autumn"})), "priors.clothing"),
     "unknown region mode": (modified(_set("regions", "many")), "regions"),
     "wall of zero length": (modified(_set("layout.walls.0.end", [-8.0, 16.0])), "layout.walls.0"),
     "missing video": (modified(_set("video", "nowhere.avi")), "video: not found"),
