@@ -190,8 +190,8 @@ def make_starter_scene(source: Path, folder: Path, points: Path | None = None, c
               "# The walkable polygon is every pixel that sees ground where people are tall enough to detect: trim\n"
               "# it to where people can walk, and add obstacles (box footprints or cylinder bases, in pixels) and\n"
               "# walls that hide people. Check overlay.png: the figures must stand on the ground at people's size.\n"
-              "# Say who walks there under priors: (docs/scenes.md), e.g. priors: {clothing: winter, m2_per_person: 10}\n"
-              "# for coats on a busy pavement.\n")
+              "# Say who walks there under priors: (docs/scenes.md), e.g. priors: {clothing: winter,\n"
+              "# m2_per_person: 10} for coats on a busy pavement.\n")
     scene_path.write_text(header + yaml.safe_dump(document, sort_keys=False, width=120))
     return StarterScene(scene_path, folder / "background.png", camera, source_text, fit, walkable, points_path,
                         median)
