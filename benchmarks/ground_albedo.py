@@ -28,6 +28,7 @@ import numpy as np  # noqa: E402
 
 from vc.calibration.camera import Camera  # noqa: E402
 from vc.calibration.materials import PAVED_ALBEDO, VEGETATION_ALBEDO, luminance  # noqa: E402
+from vc.cli.common import handles_input_errors  # noqa: E402
 from vc.io import write_json  # noqa: E402
 from vc.render.relight import region_mask, solve_lighting  # noqa: E402
 from vc.scenes.loader import load_scene  # noqa: E402
@@ -41,9 +42,10 @@ PRIORS = {"paved": float(luminance(PAVED_ALBEDO)), "vegetation": float(luminance
 
 
 def view_elevation_deg(camera: Camera) -> np.ndarray:
-    """(H, W) angle between each pixel's ray and the ground plane where the ray meets it (NaN elsewhere)."""
+    """(H, W) angle between each pixel's ray and the ground plane where the ray meets it (NaN elsewhere); pixel
+    centres at integers, the camera's convention."""
     rows, columns = np.indices((camera.height, camera.width))
-    hit = camera.ground_from_pixels(np.stack([columns.ravel() + 0.5, rows.ravel() + 0.5], axis=1).astype(float))
+    hit = camera.ground_from_pixels(np.stack([columns.ravel(), rows.ravel()], axis=1).astype(float))
     distance = np.linalg.norm(hit.points[:, :2] - camera.center[:2], axis=1)
     elevation = np.degrees(np.arctan2(camera.center[2], distance))
     return np.where(hit.ok, elevation, np.nan).reshape(camera.height, camera.width)
@@ -119,19 +121,22 @@ def write_report(result: dict, out: Path, name: str) -> None:
     plt.close(figure)
 
 
-def main() -> None:
+@handles_input_errors
+def main(argv: list[str] | None = None) -> int:
+    """A scene that cannot be read or lit gets one line and exit status 2 (the project's input contract)."""
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--scene", type=Path, required=True)
     parser.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
     parser.add_argument("--name", default=None, help="results file suffix (default: the scene's name)")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     result = implied_albedo(args.scene)
     write_report(result, args.out, args.name or result["scene"])
     for kind, summary in result["by_kind"].items():
         if summary:
             print(f"{kind}: implied albedo {summary['median']:.3f} ({summary['p25']:.3f}-{summary['p75']:.3f}), "
                   f"prior {result['priors'][kind]:.3f}")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())
