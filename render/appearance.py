@@ -73,8 +73,8 @@ DRESS = 0.25  # of bare shins on a woman: a dress, one colour from shoulders to 
 
 @dataclass(frozen=True)
 class Wardrobe:
-    """What the people of a scene wear: garment palettes, how often arms and shins are bare, and how often a hat
-    or hood covers the hair (its colour from ``headwear``)."""
+    """What the people of a scene wear: garment palettes, how often arms and shins are bare, and how often
+    (``headwear``) a hat or hood covers the hair, its colour from ``headwear_colours``."""
 
     upper: tuple[np.ndarray, np.ndarray]
     lower: tuple[np.ndarray, np.ndarray]

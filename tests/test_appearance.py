@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import json
+from typing import get_args
 
 import colour
 import numpy as np
 
 from vc.render.appearance import WARDROBES, Appearance, sample_appearance, vertex_albedo
 from vc.render.bodies import BODY_PARTS, Phenotype, sample_phenotype
+from vc.scenes.schema import Priors
 
 
 def appearances(count: int, seed: int = 0, clothing: str | None = None, **changes) -> list[Appearance]:
@@ -75,6 +77,11 @@ def test_vertex_albedo_looks_up_each_vertex_part() -> None:
 
 def luminances(sample: list[Appearance], part: str) -> np.ndarray:
     return np.array([a.part_albedo[part] for a in sample]) @ np.array([0.2126, 0.7152, 0.0722])
+
+
+def test_every_clothing_a_scene_can_name_has_a_wardrobe() -> None:
+    assert set(get_args(Priors.model_fields["clothing"].annotation)) == set(WARDROBES)
+    assert Priors().clothing == "mixed"
 
 
 def test_the_mixed_wardrobe_is_the_default_and_draws_the_same_people() -> None:
