@@ -28,7 +28,7 @@ import numpy as np  # noqa: E402
 
 from vc.calibration.camera import Camera  # noqa: E402
 from vc.calibration.materials import PAVED_ALBEDO, VEGETATION_ALBEDO, luminance  # noqa: E402
-from vc.cli.common import handles_input_errors  # noqa: E402
+from vc.errors import InputError  # noqa: E402
 from vc.io import write_json  # noqa: E402
 from vc.render.relight import region_mask, solve_lighting  # noqa: E402
 from vc.scenes.loader import load_scene  # noqa: E402
@@ -121,7 +121,6 @@ def write_report(result: dict, out: Path, name: str) -> None:
     plt.close(figure)
 
 
-@handles_input_errors
 def main(argv: list[str] | None = None) -> int:
     """A scene that cannot be read or lit gets one line and exit status 2 (the project's input contract)."""
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
@@ -129,7 +128,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
     parser.add_argument("--name", default=None, help="results file suffix (default: the scene's name)")
     args = parser.parse_args(argv)
-    result = implied_albedo(args.scene)
+    try:
+        result = implied_albedo(args.scene)
+    except InputError as error:
+        parser.error(str(error))
     write_report(result, args.out, args.name or result["scene"])
     for kind, summary in result["by_kind"].items():
         if summary:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from conftest import load_benchmark
 from test_camera import make_camera
 
@@ -23,6 +24,8 @@ def test_view_elevation_is_the_rays_angle_above_the_ground():
 
 
 def test_a_missing_scene_is_one_line_and_status_2(tmp_path, capsys):
-    assert ground_albedo.main(["--scene", str(tmp_path / "nowhere.yaml"), "--out", str(tmp_path)]) == 2
+    with pytest.raises(SystemExit) as exit_status:
+        ground_albedo.main(["--scene", str(tmp_path / "nowhere.yaml"), "--out", str(tmp_path)])
+    assert exit_status.value.code == 2
     assert "nowhere.yaml" in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == []
