@@ -109,27 +109,26 @@ class DecodedPerson:
 def _refine_many(heatmaps: np.ndarray, rows: np.ndarray, columns: np.ndarray) -> np.ndarray:
     """Sub-cell (x, y) of the peak at (rows[k], columns[k]) of each ``heatmaps[k]``: the vertex of a parabola
     through the peak and its neighbours along each axis (no shift at the border, or where the values do not curve
-    down)."""
+    down). ``heatmaps`` may be one map broadcast to every peak."""
     index = np.arange(len(rows))
     _, height, width = heatmaps.shape
     peak = heatmaps[index, rows, columns]
 
     def shift(before: np.ndarray, after: np.ndarray, inside: np.ndarray) -> np.ndarray:
         curvature = before - 2.0 * peak + after
-        with np.errstate(divide="ignore", invalid="ignore"):
-            vertex = np.clip(0.5 * (before - after) / curvature, -0.5, 0.5)
-        return np.where(inside & (curvature < 0), vertex, 0.0)
+        curved = inside & (curvature < 0)
+        # the division only where the result is used: no warnings to silence, which costs more than the arithmetic
+        vertex = np.clip(0.5 * (before - after) / np.where(curved, curvature, -1.0), -0.5, 0.5)
+        return np.where(curved, vertex, 0.0)
 
     left, right = np.maximum(columns - 1, 0), np.minimum(columns + 1, width - 1)
     up, down = np.maximum(rows - 1, 0), np.minimum(rows + 1, height - 1)
-    dx = shift(heatmaps[index, rows, left], heatmaps[index, rows, right], (columns > 0) & (columns < width - 1))
-    dy = shift(heatmaps[index, up, columns], heatmaps[index, down, columns], (rows > 0) & (rows < height - 1))
-    return np.column_stack([columns + dx, rows + dy])
-
-
-def _refine(heatmap: np.ndarray, row: int, column: int) -> np.ndarray:
-    """Sub-cell (x, y) of one peak (see :func:`_refine_many`)."""
-    return _refine_many(heatmap[None], np.array([row]), np.array([column]))[0]
+    refined = np.empty((len(rows), 2))
+    refined[:, 0] = columns + shift(heatmaps[index, rows, left], heatmaps[index, rows, right],
+                                    (columns > 0) & (columns < width - 1))
+    refined[:, 1] = rows + shift(heatmaps[index, up, columns], heatmaps[index, down, columns],
+                                 (rows > 0) & (rows < height - 1))
+    return refined
 
 
 def find_peaks(heatmap: np.ndarray, threshold: float, limit: int | None = None) -> list[tuple[float, np.ndarray]]:
@@ -152,7 +151,9 @@ def find_peaks(heatmap: np.ndarray, threshold: float, limit: int | None = None) 
         is_peak &= heatmap >= neighbour(dy, dx)
     rows, columns = np.nonzero(is_peak)
     order = np.argsort(-heatmap[rows, columns], kind="stable")[:limit]
-    return [(float(heatmap[rows[i], columns[i]]), _refine(heatmap, rows[i], columns[i])) for i in order]
+    rows, columns = rows[order], columns[order]
+    refined = _refine_many(np.broadcast_to(heatmap, (len(rows), height, width)), rows, columns)
+    return list(zip(heatmap[rows, columns].tolist(), refined, strict=True))
 
 
 def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),

@@ -45,6 +45,7 @@ class NetworkConfig:
     sb_kernel: int = 17  # odd side of the SB residual path's large kernels
     sb_reduction: int = 1  # 1: two full-width k x k convolutions (the paper); r > 1: a 1x1 -> k x k -> 1x1
     # bottleneck whose one k x k runs at width/r channels (He et al., 2016), about 2r^2 times cheaper
+    sb_separable: bool = False  # SB large kernels as a dense k x 1 then 1 x k (same window, 2/k of the cost)
     belief_channels: int = HEATMAP_CHANNELS  # belief maps each SB unit emits through its 1x1 path
     heatmap_channels: int = HEATMAP_CHANNELS  # output maps; ANATOMICAL_CHANNELS for networks from before handedness
 
@@ -58,6 +59,8 @@ class NetworkConfig:
             problems.append(f"sb_reduction must be >= 1 and divide width {self.width}, got {self.sb_reduction}")
         if self.sb_kernel < 1 or self.sb_kernel % 2 == 0:
             problems.append(f"sb_kernel must be odd so that 'same' padding keeps maps aligned, got {self.sb_kernel}")
+        if self.sb_separable and self.sb_depthwise:
+            problems.append("sb_separable and sb_depthwise are two ways to factor the same kernel: choose one")
         if self.heatmap_channels not in (HEATMAP_CHANNELS, ANATOMICAL_CHANNELS):
             problems.append(f"heatmap_channels must be {HEATMAP_CHANNELS} (or {ANATOMICAL_CHANNELS} before "
                             f"handedness maps), got {self.heatmap_channels}")
@@ -94,6 +97,10 @@ PRESETS: dict[str, NetworkConfig] = {
     # "dense9" at the same input.
     "fast": NetworkConfig("fast", stem_stride=4, width=32, residual_units=2, sb_kernel=13, sb_reduction=2,
                           sb_depthwise=False, intermediate_supervision=True),
+    # "fast" with each 13x13 as a 13x1 then a 1x13 (same receptive field, 2/13 of those multiply-adds: they were
+    # 45 % of the int8 runtime of PETS09's largest region, benchmarks/results/runtime_latency.md).
+    "fast-sep": NetworkConfig("fast-sep", stem_stride=4, width=32, residual_units=2, sb_kernel=13, sb_reduction=2,
+                              sb_depthwise=False, sb_separable=True, intermediate_supervision=True),
     # The paper's two dense convolutions per SB unit, 9x9 at 1/4 resolution, 64 channels (receptive field 265 px).
     "dense9": NetworkConfig("dense9", stem_stride=4, width=64, sb_kernel=9, sb_depthwise=False,
                             intermediate_supervision=True),

@@ -23,10 +23,16 @@ INPUT_CENTRE, INPUT_HALF_RANGE = 0.5, 0.5
 OUTPUT_INIT_STD = 1e-3
 
 
-def _spatial_conv(in_channels: int, out_channels: int, kernel: int, depthwise: bool, stride: int = 1) -> nn.Module:
-    """A k x k convolution with 'same' padding; depthwise-separable (Xception-style, no activation between the
-    depthwise and pointwise parts) when dense large kernels are too slow for the CPU."""
+def _spatial_conv(in_channels: int, out_channels: int, kernel: int, depthwise: bool, stride: int = 1,
+                  separable: bool = False) -> nn.Module:
+    """A k x k convolution with 'same' padding. ``depthwise``: depthwise-separable (Xception-style, no activation
+    between the depthwise and pointwise parts). ``separable``: a dense k x 1 then a dense 1 x k (Szegedy et al.,
+    2016, "Rethinking the Inception architecture"), no activation between: the same k x k window for 2/k of the
+    multiply-adds, where ORT's int8 kernels are fast (dense convolutions) and its depthwise ones are not."""
     padding = kernel // 2
+    if separable:
+        return nn.Sequential(nn.Conv2d(in_channels, out_channels, (kernel, 1), (stride, 1), (padding, 0), bias=False),
+                             nn.Conv2d(out_channels, out_channels, (1, kernel), (1, stride), (0, padding), bias=False))
     if not depthwise:
         return nn.Conv2d(in_channels, out_channels, kernel, stride, padding, bias=False)
     return nn.Sequential(nn.Conv2d(in_channels, in_channels, kernel, stride, padding, groups=in_channels, bias=False),
@@ -57,12 +63,13 @@ class _SideInputResidual(nn.Module):
 class ResidualUnit(_SideInputResidual):
     """Two k x k conv-BN layers added to an identity skip (He et al., 2016)."""
 
-    def __init__(self, channels: int, kernel: int, depthwise: bool = False, side_channels: int = 0) -> None:
+    def __init__(self, channels: int, kernel: int, depthwise: bool = False, side_channels: int = 0,
+                 separable: bool = False) -> None:
         super().__init__()
         self.branch = nn.Sequential(
-            _spatial_conv(channels + side_channels, channels, kernel, depthwise), nn.BatchNorm2d(channels),
-            nn.ReLU(inplace=True),
-            _spatial_conv(channels, channels, kernel, depthwise), nn.BatchNorm2d(channels))
+            _spatial_conv(channels + side_channels, channels, kernel, depthwise, separable=separable),
+            nn.BatchNorm2d(channels), nn.ReLU(inplace=True),
+            _spatial_conv(channels, channels, kernel, depthwise, separable=separable), nn.BatchNorm2d(channels))
 
 
 class BottleneckUnit(_SideInputResidual):
@@ -70,12 +77,13 @@ class BottleneckUnit(_SideInputResidual):
     batch norm (He et al., 2016): the large kernel sees the same window at a fraction of the dense cost."""
 
     def __init__(self, channels: int, kernel: int, reduction: int, depthwise: bool = False,
-                 side_channels: int = 0) -> None:
+                 side_channels: int = 0, separable: bool = False) -> None:
         super().__init__()
         inner = channels // reduction
         self.branch = nn.Sequential(
             nn.Conv2d(channels + side_channels, inner, 1, bias=False), nn.BatchNorm2d(inner), nn.ReLU(inplace=True),
-            _spatial_conv(inner, inner, kernel, depthwise), nn.BatchNorm2d(inner), nn.ReLU(inplace=True),
+            _spatial_conv(inner, inner, kernel, depthwise, separable=separable), nn.BatchNorm2d(inner),
+            nn.ReLU(inplace=True),
             nn.Conv2d(inner, channels, 1, bias=False), nn.BatchNorm2d(channels))
 
 
@@ -86,10 +94,11 @@ class SpatialBeliefUnit(nn.Module):
         super().__init__()
         side_channels = 0 if first else config.belief_channels
         if config.sb_reduction == 1:
-            self.residual = ResidualUnit(config.width, config.sb_kernel, config.sb_depthwise, side_channels)
+            self.residual = ResidualUnit(config.width, config.sb_kernel, config.sb_depthwise, side_channels,
+                                         config.sb_separable)
         else:
             self.residual = BottleneckUnit(config.width, config.sb_kernel, config.sb_reduction, config.sb_depthwise,
-                                           side_channels)
+                                           side_channels, config.sb_separable)
         self.belief = nn.Sequential(nn.Conv2d(config.width, config.width, 1, bias=False),
                                     nn.BatchNorm2d(config.width), nn.ReLU(inplace=True),
                                     nn.Conv2d(config.width, config.belief_channels, 1))
@@ -163,7 +172,8 @@ class ScenePoseNet(nn.Module):
 
         Every spatial convolution lies on one path from the input to the heat maps (skips are identities, the
         belief and head paths are 1x1), and modules are registered in the order they run, so the field is the
-        chain formula 1 + sum((k - 1) * dilation * product of the strides before that convolution).
+        chain formula 1 + sum((k - 1) * dilation * product of the strides before that convolution), taken along
+        the vertical axis (a separable k x 1 then 1 x k adds k - 1 along each axis: fields stay square).
         """
         field, stride = 1, 1
         for module in self.modules():

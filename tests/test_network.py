@@ -42,10 +42,14 @@ def test_presets_give_heatmaps_at_the_output_stride(name):
     assert [b.shape for b in out["beliefs"]] == [out["heatmaps"].shape] * config.sb_units
 
 
+#: The SB kernels' three factorings: dense k x k, depthwise + pointwise, k x 1 then 1 x k.
+FACTORINGS = {"dense": {}, "depthwise": {"sb_depthwise": True}, "separable": {"sb_separable": True}}
+
+
 @pytest.mark.parametrize("stride", [1, 2, 4])
-@pytest.mark.parametrize("depthwise", [False, True])
-def test_stem_strides_keep_exact_sizes_for_multiples_of_16(stride, depthwise):
-    net = _net(replace(TINY, stem_stride=stride, sb_depthwise=depthwise)).eval()
+@pytest.mark.parametrize("factoring", FACTORINGS)
+def test_stem_strides_keep_exact_sizes_for_multiples_of_16(stride, factoring):
+    net = _net(replace(TINY, stem_stride=stride, **FACTORINGS[factoring])).eval()
     with torch.no_grad():
         assert net(torch.rand(1, 3, 64, 128))["heatmaps"].shape == (1, HEATMAP_CHANNELS, 64 // stride, 128 // stride)
         # Other sizes round up: every layer pads to 'same', so the last partial window still yields a pixel.
@@ -76,12 +80,29 @@ def _measured_receptive_field(net: ScenePoseNet, size: int) -> tuple[int, int]:
     return int(rows.max() - rows.min() + 1), int(cols.max() - cols.min() + 1)
 
 
-@pytest.mark.parametrize(("stride", "depthwise"), [(1, False), (2, True), (4, False), (4, True)])
-def test_receptive_field_matches_the_gradient_footprint(stride, depthwise):
-    net = _net(replace(TINY, stem_stride=stride, sb_depthwise=depthwise)).double().eval()
+@pytest.mark.parametrize(("stride", "factoring"), [(1, "dense"), (2, "depthwise"), (4, "dense"), (4, "depthwise"),
+                                                   (2, "separable"), (4, "separable")])
+def test_receptive_field_matches_the_gradient_footprint(stride, factoring):
+    net = _net(replace(TINY, stem_stride=stride, **FACTORINGS[factoring])).double().eval()
     _positive_weights(net)
     field = net.receptive_field()
     assert _measured_receptive_field(net, size=2 * field + 16) == (field, field)
+
+
+def test_separable_kernels_see_the_same_window_for_2_over_k_of_the_weights():
+    dense, separable = (ScenePoseNet(network_config(name)) for name in ("fast", "fast-sep"))
+    assert separable.receptive_field() == dense.receptive_field()
+
+    def large_kernel_weights(net: ScenePoseNet) -> int:
+        return sum(m.weight.numel() for m in net.sb_units.modules()
+                   if isinstance(m, nn.Conv2d) and max(m.kernel_size) == net.config.sb_kernel)
+
+    assert large_kernel_weights(separable) * dense.config.sb_kernel == 2 * large_kernel_weights(dense)
+
+
+def test_a_kernel_is_factored_one_way_at_most():
+    with pytest.raises(ValueError, match="sb_separable and sb_depthwise"):
+        replace(TINY, sb_separable=True, sb_depthwise=True)
 
 
 def test_default_preset_sees_the_largest_person_of_a_region():
