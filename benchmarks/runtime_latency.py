@@ -1,7 +1,7 @@
 """Bundle runtime latency and memory per precision, as an appliance runs it: numpy + onnxruntime only.
 
-    python benchmarks/runtime_latency.py --run RUN --scene SCENE [--precision fp32 fp16 int8] [--frames 30]
-                                         [--threads 2] [--out benchmarks/results]
+    python benchmarks/runtime_latency.py --run RUN --scene SCENE [--baseline-run RUN] [--precision fp32 fp16 int8]
+                                         [--frames 30] [--threads 2] [--out benchmarks/results]
 
 For each precision the finished vc-train RUN is exported to a temporary bundle (``vc.model.export``; int8
 calibrated on the run's training renders) and measured in a fresh process, so that its peak resident memory is its
@@ -10,6 +10,10 @@ own: milliseconds per full frame (every region: crop, onnxruntime, decode, owner
 warm-up frame), sequentially with ``--threads`` intra-op threads and with the regions in parallel, and per region
 (network and decoding alone). Writes ``runtime_latency.json``, ``runtime_latency.md`` and ``runtime_latency.png``
 to ``--out``.
+
+``--baseline-run``: today's compile of the same scene, measured in the same invocation on the same frames, each
+precision's two bundles in turn twice (baseline, run, baseline, run), so that the ratio of the two holds on a
+shared machine whose speed drifts; the report gives the run's times as ratios to the baseline's.
 """
 
 from __future__ import annotations
@@ -80,33 +84,75 @@ def _frames(run: Path, scene: Path, count: int) -> np.ndarray:
     return np.stack([composite_frame(background, regions, index).image for index in range(count)])
 
 
+def _measure_in_fresh_process(bundle: Path, frames_path: Path, threads: int) -> dict:
+    """:func:`measure` in a new interpreter, so that the peak resident memory is this bundle's own."""
+    output = subprocess.run([sys.executable, __file__, "--threads", str(threads), "--measure", str(bundle),
+                             str(frames_path)], capture_output=True, text=True, check=True).stdout
+    return json.loads(output.strip().splitlines()[-1])
+
+
+def _interleaved(bundles: dict[str, Path], frames_path: Path, threads: int, repeats: int) -> dict[str, list[dict]]:
+    """Each bundle measured ``repeats`` times, in turn (baseline, run, baseline, run): a drift of the machine's
+    speed during the measurement falls on both alike."""
+    rounds: dict[str, list[dict]] = {role: [] for role in bundles}
+    for _ in range(repeats):
+        for role, bundle in bundles.items():
+            rounds[role].append(_measure_in_fresh_process(bundle, frames_path, threads))
+    return rounds
+
+
+def _mean_of_rounds(measured: list[dict]) -> dict:
+    """One bundle's rounds as one row: times averaged, memory the largest."""
+    first = measured[0]
+    return {"frame_ms": float(np.mean([m["frame_ms"] for m in measured])),
+            "frame_ms_parallel_regions": float(np.mean([m["frame_ms_parallel_regions"] for m in measured])),
+            "regions": {name: {**region, **{key: float(np.mean([m["regions"][name][key] for m in measured]))
+                                            for key in ("network_ms", "network_and_decode_ms")}}
+                        for name, region in first["regions"].items()},
+            "peak_rss_mb": max(m["peak_rss_mb"] for m in measured),
+            "model_load_rss_mb": max(m["model_load_rss_mb"] for m in measured), "rounds": len(measured)}
+
+
 def _write_report(results: dict, out: Path) -> None:
     from vc.io import write_json
 
     write_json(out / "runtime_latency.json", results)
     rows = results["precisions"]
     regions = list(next(iter(rows.values()))["regions"])
+    baseline = results.get("baseline", {})
     lines = [f"Scene {results['scene']}, {results['frame_size'][0]}x{results['frame_size'][1]} frames, "
              f"{results['threads']} threads, median of {results['frames']} composed frames (numpy + onnxruntime "
-             f"{results['onnxruntime']}).", "",
-             "| precision | ms/frame (regions in turn) | ms/frame (regions in parallel) | "
-             + " | ".join(f"{name} {'x'.join(map(str, rows[next(iter(rows))]['regions'][name]['input']))} net / "
-                          f"+decode ms" for name in regions) + " | peak RSS MB |",
-             "|---" * (4 + len(regions)) + "|"]
-    for precision, row in rows.items():
-        lines.append(f"| {precision} | {row['frame_ms']:.1f} | {row['frame_ms_parallel_regions']:.1f} | "
+             f"{results['onnxruntime']})."
+             + (f" Run `{results['run']}` against the baseline `{results['baseline_run']}`, measured in turn twice "
+                f"in this invocation." if baseline else ""), "",
+             "| bundle | ms/frame (regions in turn) | ms/frame (regions in parallel) | "
+             + " | ".join(f"{name} net / +decode ms" for name in regions) + " | inputs | peak RSS MB |",
+             "|---" * (5 + len(regions)) + "|"]
+    labelled = [(f"{precision} baseline", baseline[precision]) for precision in rows if precision in baseline]
+    labelled = sorted(labelled + list(rows.items()), key=lambda item: list(rows).index(item[0].split()[0]))
+    for label, row in labelled:
+        lines.append(f"| {label} | {row['frame_ms']:.1f} | {row['frame_ms_parallel_regions']:.1f} | "
                      + " | ".join(f"{row['regions'][name]['network_ms']:.1f} / "
                                   f"{row['regions'][name]['network_and_decode_ms']:.1f}" for name in regions)
+                     + " | " + ", ".join("x".join(map(str, row["regions"][name]["input"])) for name in regions)
                      + f" | {row['peak_rss_mb']:.0f} |")
+    for precision, ratio in results.get("vs_baseline", {}).items():
+        lines.append(f"\n{precision}: {ratio['frame_ms']:.2f}x the baseline's time with regions in turn, "
+                     f"{ratio['frame_ms_parallel_regions']:.2f}x with regions in parallel.")
     (out / "runtime_latency.md").write_text("\n".join(lines) + "\n")
     figure, axes = plt.subplots(figsize=(6, 3.5))
-    bottom = np.zeros(len(rows))
+    labels = [label for label, _ in labelled]
+    bottom = np.zeros(len(labelled))
     for name in regions:
-        values = np.array([row["regions"][name]["network_and_decode_ms"] for row in rows.values()])
-        axes.bar(list(rows), values, bottom=bottom, label=name)
+        values = np.array([row["regions"][name]["network_and_decode_ms"] for _, row in labelled])
+        axes.bar(labels, values, bottom=bottom, label=name)
         bottom += values
-    axes.plot(list(rows), [row["frame_ms"] for row in rows.values()], "ko", label="whole frame")
-    axes.axhline(30, color="red", linestyle="--", linewidth=1, label="30 ms target")
+    axes.plot(labels, [row["frame_ms"] for _, row in labelled], "ko", label="whole frame, regions in turn")
+    axes.plot(labels, [row["frame_ms_parallel_regions"] for _, row in labelled], "k^",
+              label="whole frame, regions in parallel")
+    for target, style in ((30, "--"), (12, ":")):
+        axes.axhline(target, color="red", linestyle=style, linewidth=1, label=f"{target} ms target")
+    axes.tick_params(axis="x", labelsize=8)
     axes.set(ylabel="ms per frame", title=f"{results['scene']}: runtime per precision, {results['threads']} threads")
     axes.legend(fontsize=8)
     figure.tight_layout()
@@ -117,6 +163,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--run", type=Path, help="a finished vc-train run")
     parser.add_argument("--scene", type=Path, help="its scene YAML (for the background)")
+    parser.add_argument("--baseline-run", type=Path,
+                        help="today's vc-train run of the same scene: the run's times are reported as ratios to its")
     parser.add_argument("--precision", nargs="+", choices=PRECISIONS, default=list(PRECISIONS))
     parser.add_argument("--frames", type=int, default=30)
     parser.add_argument("--threads", type=int, default=2)
@@ -136,19 +184,29 @@ def main() -> None:
     results = {"run": str(args.run), "threads": args.threads, "frames": args.frames,
                "frame_size": [frames.shape[2], frames.shape[1]], "onnxruntime": onnxruntime.__version__,
                "precisions": {}}
+    runs = {"run": args.run} if args.baseline_run is None else {"baseline": args.baseline_run, "run": args.run}
     with tempfile.TemporaryDirectory(prefix="vc-latency-") as folder:
-        np.save(Path(folder) / "frames.npy", frames)
+        frames_path = Path(folder) / "frames.npy"
+        np.save(frames_path, frames)
         for precision in args.precision:
-            manifest, files = bundle_files(args.run, precision, eval_samples=0)
-            results["scene"] = manifest["scene"]
-            write_bundle(manifest, files, Path(folder) / precision, as_zip=False)
-            output = subprocess.run([sys.executable, __file__, "--threads", str(args.threads), "--measure",
-                                     str(Path(folder) / precision), str(Path(folder) / "frames.npy")],
-                                    capture_output=True, text=True, check=True).stdout
-            results["precisions"][precision] = json.loads(output.strip().splitlines()[-1])
-            row = results["precisions"][precision]
-            print(f"{precision}: {row['frame_ms']:.1f} ms/frame ({row['frame_ms_parallel_regions']:.1f} with regions "
-                  f"in parallel), peak {row['peak_rss_mb']:.0f} MB", flush=True)
+            bundles = {}
+            for role, run in runs.items():
+                manifest, files = bundle_files(run, precision, eval_samples=0)
+                results["scene"] = manifest["scene"]
+                bundles[role] = Path(folder) / f"{role}-{precision}"
+                write_bundle(manifest, files, bundles[role], as_zip=False)
+            rounds = _interleaved(bundles, frames_path, args.threads, repeats=2 if len(bundles) > 1 else 1)
+            for role, measured in rounds.items():
+                row = _mean_of_rounds(measured)
+                (results["precisions"] if role == "run" else results.setdefault("baseline", {}))[precision] = row
+                print(f"{precision} {role}: {row['frame_ms']:.1f} ms/frame ({row['frame_ms_parallel_regions']:.1f} "
+                      f"with regions in parallel), peak {row['peak_rss_mb']:.0f} MB", flush=True)
+    if args.baseline_run is not None:
+        results["baseline_run"] = str(args.baseline_run)
+        results["vs_baseline"] = {
+            precision: {key: row[key] / results["baseline"][precision][key]
+                        for key in ("frame_ms", "frame_ms_parallel_regions")}
+            for precision, row in results["precisions"].items()}
     args.out.mkdir(parents=True, exist_ok=True)
     _write_report(results, args.out)
 

@@ -421,3 +421,28 @@ def test_render_comparison_counts_the_pixels_two_backends_disagree_on(tmp_path):
     changed = (np.abs(off.astype(int) - image).max(axis=-1) > 2).sum()
     assert row["images"] == 1 and changed >= 1
     assert row["share_over_2_levels"] == pytest.approx(changed / 1000, abs=1e-5)
+
+
+def _latency_row(frame_ms: float, rss_mb: float) -> dict:
+    return {"frame_ms": frame_ms, "frame_ms_parallel_regions": frame_ms * 0.75, "peak_rss_mb": rss_mb,
+            "model_load_rss_mb": 0.0,
+            "regions": {"r0": {"input": [64, 32], "precision": "int8", "network_ms": frame_ms / 2,
+                               "network_and_decode_ms": frame_ms * 0.6}}}
+
+
+def test_runtime_latency_reports_a_candidate_as_ratios_to_the_baseline_measured_beside_it(tmp_path):
+    latency = load_benchmark("runtime_latency")
+    # two rounds per bundle: times averaged, memory the larger
+    baseline = latency._mean_of_rounds([_latency_row(20.0, 500), _latency_row(22.0, 520)])
+    run = latency._mean_of_rounds([_latency_row(13.0, 480), _latency_row(14.0, 470)])
+    assert baseline["frame_ms"] == 21.0 and baseline["peak_rss_mb"] == 520 and baseline["rounds"] == 2
+    assert baseline["regions"]["r0"]["network_ms"] == 10.5 and baseline["regions"]["r0"]["input"] == [64, 32]
+    results = {"run": "new", "baseline_run": "today", "threads": 2, "frames": 3, "frame_size": [64, 48],
+               "onnxruntime": "x", "scene": "demo", "precisions": {"int8": run}, "baseline": {"int8": baseline},
+               "vs_baseline": {"int8": {"frame_ms": 13.5 / 21.0, "frame_ms_parallel_regions": 13.5 / 21.0}}}
+    latency._write_report(results, tmp_path)
+    report = (tmp_path / "runtime_latency.md").read_text()
+    assert "| int8 baseline | 21.0 | 15.8 |" in report and "| int8 | 13.5 | 10.1 |" in report
+    assert "int8: 0.64x the baseline's time with regions in turn" in report
+    assert (tmp_path / "runtime_latency.png").stat().st_size > 0
+    assert json.loads((tmp_path / "runtime_latency.json").read_text())["vs_baseline"]["int8"]["frame_ms"] < 1
