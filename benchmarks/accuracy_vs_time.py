@@ -59,6 +59,7 @@ import argparse
 import hashlib
 import itertools
 import json
+import re
 import threading
 import time
 from collections.abc import Callable
@@ -542,10 +543,31 @@ def distinct_compiles(results: dict[str, list[dict]]) -> list[dict]:
     return list(distinct.values())
 
 
+#: A value measured with several training seeds ("winter, seed 1"): the setting, then the seed.
+SEEDED_VALUE = re.compile(r"^(?P<setting>.+), seed (?P<seed>\d+)$")
+#: What a setting measured with several seeds reports: each the mean over its seeds.
+SEED_MEAN_FIELDS = ("real_ap50", "real_ap50_tracked", "composed_ap50", "synthetic_ap50", "synthetic_pckh",
+                    "compile_minutes", "runtime_ms", "runtime_vs_base")
+
+
 def choices(results: dict[str, list[dict]]) -> list[dict]:
-    """The distinct compiles a user can pick from: another training seed is a repeat of the standard compile, not a
-    choice (no one knows beforehand which seed is lucky), so it is drawn as the noise band and kept off the front."""
-    return [point for point in distinct_compiles(results) if not point["point"].get("train_seed")]
+    """The distinct compiles a user can pick from. Another training seed is a repeat of a compile, not a choice (no
+    one knows beforehand which seed is lucky): the seed knob is drawn as the noise band and kept off the front, and
+    a setting measured with several seeds ("winter, seed 0/1/2") is one point, the mean over its seeds."""
+    kept: list[dict] = []
+    seeded: dict[str, list[dict]] = {}
+    for point in distinct_compiles(results):
+        match = SEEDED_VALUE.match(point["name"])
+        if match:
+            seeded.setdefault(match["setting"], []).append(point)
+        elif not point["point"].get("train_seed"):
+            kept.append(point)
+    for setting, points in seeded.items():
+        means = {field: float(np.mean([p[field] for p in points])) for field in SEED_MEAN_FIELDS
+                 if all(field in p for p in points)}
+        kept.append(points[0] | means | {"name": f"{setting} ({len(points)} seeds)" if len(points) > 1 else setting,
+                                         "seeds": len(points)})
+    return kept
 
 
 def pareto_front(points: list[dict], time_name: str, accuracy_name: str) -> list[dict]:

@@ -446,3 +446,15 @@ def test_runtime_latency_reports_a_candidate_as_ratios_to_the_baseline_measured_
     assert "int8: 0.64x the baseline's time with regions in turn" in report
     assert (tmp_path / "runtime_latency.png").stat().st_size > 0
     assert json.loads((tmp_path / "runtime_latency.json").read_text())["vs_baseline"]["int8"]["frame_ms"] < 1
+
+
+def test_a_setting_measured_with_several_seeds_is_one_choice_at_its_mean():
+    """One lucky seed of a setting is not the best compile for its time: its seeds' mean is."""
+    results = {"precision": [_as_compiled("precision", "int8", 0.872, 0.50)],
+               "clothing": [_as_compiled("clothing", f"winter, seed {seed}", ap50, 1.0, minutes)
+                            for seed, ap50, minutes in ((0, 0.913, 37.0), (1, 0.864, 36.0), (2, 0.885, 35.0))]}
+    chosen = {p["name"]: p for p in sweep_module.choices(results)}
+    assert sorted(chosen) == ["clothing winter (3 seeds)", "precision int8"]
+    winter = chosen["clothing winter (3 seeds)"]
+    assert winter["real_ap50"] == pytest.approx(0.8873, abs=1e-4) and winter["compile_minutes"] == 36.0
+    assert winter["seeds"] == 3
