@@ -140,7 +140,7 @@ def _write_report(results: dict, out: Path) -> None:
         lines.append(f"\n{precision}: {ratio['frame_ms']:.2f}x the baseline's time with regions in turn, "
                      f"{ratio['frame_ms_parallel_regions']:.2f}x with regions in parallel.")
     (out / "runtime_latency.md").write_text("\n".join(lines) + "\n")
-    figure, axes = plt.subplots(figsize=(6, 3.5))
+    figure, axes = plt.subplots(figsize=(8, 3.5))
     labels = [label for label, _ in labelled]
     bottom = np.zeros(len(labelled))
     for name in regions:
@@ -154,7 +154,7 @@ def _write_report(results: dict, out: Path) -> None:
         axes.axhline(target, color="red", linestyle=style, linewidth=1, label=f"{target} ms target")
     axes.tick_params(axis="x", labelsize=8)
     axes.set(ylabel="ms per frame", title=f"{results['scene']}: runtime per precision, {results['threads']} threads")
-    axes.legend(fontsize=8)
+    axes.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     figure.tight_layout()
     figure.savefig(out / "runtime_latency.png", dpi=120)
 
