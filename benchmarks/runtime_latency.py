@@ -1,7 +1,8 @@
 """Bundle runtime latency and memory per precision, as an appliance runs it: numpy + onnxruntime only.
 
     python benchmarks/runtime_latency.py --run RUN --scene SCENE [--baseline-run RUN] [--precision fp32 fp16 int8]
-                                         [--frames 30] [--threads 2] [--out benchmarks/results]
+                                         [--frames 30] [--video V [--video-frames 1:400:5]] [--threads 2]
+                                         [--out benchmarks/results]
 
 For each precision the finished vc-train RUN is exported to a temporary bundle (``vc.model.export``; int8
 calibrated on the run's training renders) and measured in a fresh process, so that its peak resident memory is its
@@ -10,6 +11,9 @@ own: milliseconds per full frame (every region: crop, onnxruntime, decode, owner
 warm-up frame), sequentially with ``--threads`` intra-op threads and with the regions in parallel, and per region
 (network and decoding alone). Writes ``runtime_latency.json``, ``runtime_latency.md`` and ``runtime_latency.png``
 to ``--out``.
+
+``--video``: time the first ``--frames`` real frames of the camera's video (``--video-frames`` selects them)
+instead of composed ones, which hold more people than a real frame and so weigh decoding more.
 
 ``--baseline-run``: today's compile of the same scene, measured in the same invocation on the same frames, each
 precision's two bundles in turn twice (baseline, run, baseline, run), so that the ratio of the two holds on a
@@ -70,6 +74,15 @@ def measure(bundle: Path, frames_path: Path, threads: int) -> dict:
             "peak_rss_mb": peak / 1024, "model_load_rss_mb": (loaded - before) / 1024}
 
 
+def _video_frames(video: Path, selection: str, count: int) -> np.ndarray:
+    import itertools
+
+    from vc.deploy.frames import FrameRange, FrameSource
+
+    return np.stack([frame.image for frame in itertools.islice(FrameSource(video, FrameRange.parse(selection)),
+                                                                 count)])
+
+
 def _frames(run: Path, scene: Path, count: int) -> np.ndarray:
     from vc.evaluation.selftest import composite_frame
     from vc.io import read_image
@@ -121,8 +134,8 @@ def _write_report(results: dict, out: Path) -> None:
     regions = list(next(iter(rows.values()))["regions"])
     baseline = results.get("baseline", {})
     lines = [f"Scene {results['scene']}, {results['frame_size'][0]}x{results['frame_size'][1]} frames, "
-             f"{results['threads']} threads, median of {results['frames']} composed frames (numpy + onnxruntime "
-             f"{results['onnxruntime']})."
+             f"{results['threads']} threads, median of {results['frames']} "
+             f"{results.get('frames_from', 'composed frames')} (numpy + onnxruntime {results['onnxruntime']})."
              + (f" Run `{results['run']}` against the baseline `{results['baseline_run']}`, measured in turn twice "
                 f"in this invocation." if baseline else ""), "",
              "| bundle | ms/frame (regions in turn) | ms/frame (regions in parallel) | "
@@ -167,6 +180,8 @@ def main() -> None:
                         help="today's vc-train run of the same scene: the run's times are reported as ratios to its")
     parser.add_argument("--precision", nargs="+", choices=PRECISIONS, default=list(PRECISIONS))
     parser.add_argument("--frames", type=int, default=30)
+    parser.add_argument("--video", type=Path, help="time real frames of this video (or folder of images)")
+    parser.add_argument("--video-frames", default="1:400:5", help="which frames of --video (first:last:step)")
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
     parser.add_argument("--measure", nargs=2, type=Path, metavar=("BUNDLE", "FRAMES"), help=argparse.SUPPRESS)
@@ -180,8 +195,13 @@ def main() -> None:
 
     from vc.model.export import bundle_files, write_bundle
 
-    frames = _frames(args.run, args.scene, args.frames)
-    results = {"run": str(args.run), "threads": args.threads, "frames": args.frames,
+    if args.video is not None and not args.video.exists():
+        parser.error(f"--video {args.video}: no such file or folder")
+    frames = (_frames(args.run, args.scene, args.frames) if args.video is None
+              else _video_frames(args.video, args.video_frames, args.frames))
+    results = {"run": str(args.run), "threads": args.threads, "frames": len(frames),
+               "frames_from": "composed frames" if args.video is None
+               else f"real frames ({args.video.name}, {args.video_frames})",
                "frame_size": [frames.shape[2], frames.shape[1]], "onnxruntime": onnxruntime.__version__,
                "precisions": {}}
     runs = {"run": args.run} if args.baseline_run is None else {"baseline": args.baseline_run, "run": args.run}

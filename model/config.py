@@ -92,13 +92,14 @@ _NETWORK_CONFIG = TypeAdapter(NetworkConfig)
 PRESETS: dict[str, NetworkConfig] = {
     # The paper: everything at full resolution, dense 17x17 kernels (about 30 M parameters).
     "paper": NetworkConfig("paper", stem_stride=1, width=128, sb_depthwise=False, intermediate_supervision=True),
-    # CPU default (benchmarks/model_speed.py): 1/4 resolution, 32 channels, two 3x3 residual units, SB units as
-    # bottlenecks around one dense 13x13 at 16 channels (receptive field 185 px); ~10x faster to train than
-    # "dense9" at the same input.
+    # The CPU network before "fast-sep" (benchmarks/model_speed.py): 1/4 resolution, 32 channels, two 3x3 residual
+    # units, SB units as bottlenecks around one dense 13x13 at 16 channels (receptive field 185 px); ~10x faster to
+    # train than "dense9" at the same input.
     "fast": NetworkConfig("fast", stem_stride=4, width=32, residual_units=2, sb_kernel=13, sb_reduction=2,
                           sb_depthwise=False, intermediate_supervision=True),
-    # "fast" with each 13x13 as a 13x1 then a 1x13 (same receptive field, 2/13 of those multiply-adds: they were
-    # 45 % of the int8 runtime of PETS09's largest region, benchmarks/results/runtime_latency.md).
+    # The default: "fast" with each 13x13 as a 13x1 then a 1x13 (same receptive field, 2/13 of those multiply-adds,
+    # which were 45 % of the int8 network time of PETS09's largest region). On PETS09, three seeds each: real AP50
+    # 0.908 against 0.900, training 0.80x, int8 runtime 0.72x in turn (benchmarks/results/separable_pets09.md).
     "fast-sep": NetworkConfig("fast-sep", stem_stride=4, width=32, residual_units=2, sb_kernel=13, sb_reduction=2,
                               sb_depthwise=False, sb_separable=True, intermediate_supervision=True),
     # The paper's two dense convolutions per SB unit, 9x9 at 1/4 resolution, 64 channels (receptive field 265 px).
@@ -108,7 +109,7 @@ PRESETS: dict[str, NetworkConfig] = {
     "fast-dw": NetworkConfig("fast-dw", stem_stride=4, width=32, residual_units=2, sb_depthwise=True,
                              intermediate_supervision=True),
 }
-DEFAULT_ARCH = "fast"
+DEFAULT_ARCH = "fast-sep"
 
 
 def network_config(name: str) -> NetworkConfig:

@@ -18,7 +18,7 @@ from vc.cli.train import main as vc_train
 from vc.deploy.heatmaps import HEATMAP_CHANNELS
 from vc.errors import InputError
 from vc.model.codec import CodecConfig, encode
-from vc.model.config import network_config
+from vc.model.config import DEFAULT_ARCH, network_config
 from vc.model.data import CropPolicy, TrainingStream
 from vc.model.loss import LossWeights, heatmap_terms, scene_pose_loss
 from vc.model.network import ScenePoseNet
@@ -220,7 +220,7 @@ def test_vc_train_writes_checkpoints_metrics_and_curves(flat_dataset, tmp_path, 
     for image in ("precision_recall.png", "r0/precision_recall.png", "r0/training_loss.png"):
         assert (run / image).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     checkpoint = torch.load(checkpoint_path(run, "r0"), weights_only=True)
-    assert TrainConfig.from_dict(checkpoint["train_config"]).network == network_config("fast")
+    assert TrainConfig.from_dict(checkpoint["train_config"]).network == network_config(DEFAULT_ARCH)
     assert "AP50" in capsys.readouterr().out
 
 
