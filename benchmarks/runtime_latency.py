@@ -23,6 +23,7 @@ shared machine whose speed drifts; the report gives the run's times as ratios to
 from __future__ import annotations
 
 import argparse
+import itertools
 import json
 import resource
 import subprocess
@@ -75,8 +76,6 @@ def measure(bundle: Path, frames_path: Path, threads: int) -> dict:
 
 
 def _video_frames(video: Path, selection: str, count: int) -> np.ndarray:
-    import itertools
-
     from vc.deploy.frames import FrameRange, FrameSource
 
     return np.stack([frame.image for frame in itertools.islice(FrameSource(video, FrameRange.parse(selection)),
@@ -193,10 +192,15 @@ def main() -> None:
         parser.error("--run and --scene are required")
     import onnxruntime
 
+    from vc.deploy.frames import FrameRange
     from vc.model.export import bundle_files, write_bundle
 
     if args.video is not None and not args.video.exists():
         parser.error(f"--video {args.video}: no such file or folder")
+    try:
+        FrameRange.parse(args.video_frames)
+    except argparse.ArgumentTypeError as error:
+        parser.error(f"--video-frames: {error}")
     frames = (_frames(args.run, args.scene, args.frames) if args.video is None
               else _video_frames(args.video, args.video_frames, args.frames))
     results = {"run": str(args.run), "threads": args.threads, "frames": len(frames),
