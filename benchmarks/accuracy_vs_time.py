@@ -28,6 +28,8 @@ steps, per-region models, fp32) with one knob changed (:data:`KNOBS`):
 - ``separable``: the ``fast`` network (off) against ``fast-sep`` (on, the default since), whose SB units factor
   each 13x13 into a 13x1 then a 1x13 (same receptive field, a third less int8 network time), seeds 0, 1 and 2,
   faster trainer;
+- ``groups_sep``: the ``groups`` knob again on ``fast-sep`` with the faster trainer: people alone (the
+  ``separable`` knob's "on" runs) against a group rate of 0.3, seeds 0, 1 and 2 (renders shared);
 - ``compute``: the trainer in fp32 (the standard compile) or in bfloat16 autocast with channels-last activations
   (``TRAINING_COMPUTE``; about twice the images per second where the CPU has bf16 instructions), with training
   seeds 0, 1 and 2: whether the faster compile holds accuracy.
@@ -167,6 +169,10 @@ KNOBS: dict[str, dict[str, Point]] = {
     "separable": {f"{'on' if separable else 'off'}, seed {seed}": replace(
         BASE, compute="bf16 channels-last", train_seed=seed, arch="fast-sep" if separable else BASE.arch)
         for separable in (False, True) for seed in (0, 1, 2)},
+    # groups on the default network: "alone" are the separable knob's "on" points (the same runs)
+    "groups_sep": {f"{'rate 0.3' if grouped else 'alone'}, seed {seed}": replace(
+        BASE, compute="bf16 channels-last", train_seed=seed, arch="fast-sep", group_rate=0.3 if grouped else None)
+        for grouped in (False, True) for seed in (0, 1, 2)},
 }
 
 

@@ -4,7 +4,8 @@
   images sorted by score, each greedily matched to the unmatched ground-truth box of highest IoU >= 0.5 in its
   image; AP is the area under the precision envelope. Ground truth marked ``ignore`` (people too hidden or cut
   off to ask for, as COCO's crowd regions) is neither a miss nor a match: a detection that finds nothing else but
-  overlaps one by IoU >= 0.5 is dropped from the ranking.
+  overlaps one by IoU >= 0.5 is dropped from the ranking. So is a detection marked ``ignore`` (outside the area a
+  ground truth annotates) that finds nobody; one that finds somebody counts as usual.
 * Pose: PCKh@0.5 over the keypoints of matched people that are labelled (v > 0): correct when within half a head
   size of the truth, the head size being 1/8 of the ground-truth person height in pixels (COCO has no head
   segment; this is the stated stand-in). Also per keypoint.
@@ -38,9 +39,15 @@ class ImageResult:
     truth_masks: list[np.ndarray] | None = None  # N boolean masks
     masks: list[np.ndarray] | None = None  # M boolean masks (same shape as the truth)
     truth_ignore: np.ndarray | None = None  # (N,) bool: neither a miss nor a match (see the module docstring)
+    #: (M,) bool: detections that count when they match someone and are not held against the detector when they
+    #: match nobody (outside the area a ground truth annotates: vc.evaluation.annotated_area).
+    detection_ignore: np.ndarray | None = None
 
     def ignored(self) -> np.ndarray:
         return np.zeros(len(self.truth_boxes), bool) if self.truth_ignore is None else np.asarray(self.truth_ignore)
+
+    def detections_ignored(self) -> np.ndarray:
+        return np.zeros(len(self.boxes), bool) if self.detection_ignore is None else np.asarray(self.detection_ignore)
 
 
 @dataclass
@@ -80,6 +87,7 @@ def evaluate(images: list[ImageResult]) -> Evaluation:
                      for detection, score in enumerate(result.scores)), key=lambda item: -item[0])
     ious = [box_iou(result.boxes, result.truth_boxes) for result in images]
     ignored = [result.ignored() for result in images]
+    ignored_detections = [result.detections_ignored() for result in images]
     taken = [np.zeros(len(result.truth_boxes), bool) for result in images]
     matches: list[list[tuple[int, int]]] = [[] for _ in images]
     hits, kept = [], []
@@ -93,6 +101,8 @@ def evaluate(images: list[ImageResult]) -> Evaluation:
             hits.append(1.0)
         elif overlaps.size and np.any(ignored[image] & (overlaps >= IOU_THRESHOLD)):
             continue  # found only someone we do not ask for: no credit, no penalty
+        elif ignored_detections[image][detection]:
+            continue  # matched nobody where nobody is annotated: no penalty
         else:
             hits.append(0.0)
         kept.append(score)

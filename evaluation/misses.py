@@ -19,6 +19,9 @@ read. Boxes are [x0, y0, x1, y1] in frame pixels; matching is :func:`vc.evaluati
    * **duplicate**: overlaps a found person by IoU >= 0.5 (a second detection of someone already found);
    * **merged**: its box holds the box centres of two or more people (one box over a group);
    * **misplaced**: overlaps one person by IoU >= :data:`NEAR_IOU` (the other side of a near miss);
+   * **outside the annotated area**: its foot point lies outside the area the ground truth's people stand in
+     (:mod:`vc.evaluation.annotated_area`): often a person the annotation leaves out, which the plain AP50 still
+     counts against the detector;
    * **background**: none of these (nobody there, or a person too far off to count).
 
 4. Recall is broken down by group (a person whose box overlaps another's by IoU >= :data:`GROUP_IOU`), person
@@ -36,6 +39,7 @@ import numpy as np
 
 from vc.deploy.boxes import box_iou
 from vc.deploy.runtime import in_area
+from vc.evaluation.annotated_area import AnnotatedArea
 from vc.evaluation.metrics import IOU_THRESHOLD, Evaluation, ImageResult, evaluate
 
 #: A detection overlapping a person by at least this IoU (and less than 0.5) makes the person a near miss.
@@ -45,7 +49,8 @@ GROUP_IOU = 0.1
 #: Ground-truth person heights (px) over which recall is broken down.
 HEIGHT_BINS = (0, 60, 80, 100, 10_000)
 OUTCOMES = ("found", "near miss", "missed")
-FALSE_POSITIVE_KINDS = ("duplicate", "merged", "misplaced", "background")
+OUTSIDE_ANNOTATED_AREA = "outside the annotated area"
+FALSE_POSITIVE_KINDS = ("duplicate", "merged", "misplaced", OUTSIDE_ANNOTATED_AREA, "background")
 
 
 @dataclass(frozen=True)
@@ -244,8 +249,10 @@ def grouped(boxes: np.ndarray) -> np.ndarray:
     return iou.max(axis=1, initial=0.0) >= GROUP_IOU
 
 
-def _false_positive_kind(detection: np.ndarray, truth: np.ndarray, overlaps: np.ndarray, found: np.ndarray) -> str:
-    """``overlaps``: this detection's IoU with each ground-truth box; ``found``: which of them are matched."""
+def _false_positive_kind(detection: np.ndarray, truth: np.ndarray, overlaps: np.ndarray, found: np.ndarray,
+                         annotated: bool) -> str:
+    """``overlaps``: this detection's IoU with each ground-truth box; ``found``: which of them are matched;
+    ``annotated``: whether its feet stand in the annotated area."""
     if np.any(found & (overlaps >= IOU_THRESHOLD)):
         return "duplicate"
     centres = (truth[:, :2] + truth[:, 2:]) / 2
@@ -254,14 +261,16 @@ def _false_positive_kind(detection: np.ndarray, truth: np.ndarray, overlaps: np.
         return "merged"
     if np.any(overlaps >= NEAR_IOU):
         return "misplaced"
-    return "background"
+    return "background" if annotated else OUTSIDE_ANNOTATED_AREA
 
 
 def analyse_misses(images: Sequence[ImageResult], frames: Sequence[int],
-                   region_of: Callable[[np.ndarray], list[str | None]] | None = None) -> MissAnalysis | None:
+                   region_of: Callable[[np.ndarray], list[str | None]] | None = None,
+                   annotated_area: AnnotatedArea | None = None) -> MissAnalysis | None:
     """The operating point of ``images`` (one per frame number in ``frames``), every person and false positive
-    sorted by kind. ``region_of`` maps foot points (N, 2) to region names (None: outside every region).
-    None when there are no detections."""
+    sorted by kind. ``region_of`` maps foot points (N, 2) to region names (None: outside every region);
+    ``annotated_area``: where the ground truth annotates people (None: everywhere). None when there are no
+    detections."""
     point = operating_point(images)
     if point is None:
         return None
@@ -277,6 +286,7 @@ def analyse_misses(images: Sequence[ImageResult], frames: Sequence[int],
         regions = region_of(feet) if region_of is not None and len(truth) else [None] * len(truth)
         in_group = grouped(truth)
         ignored = image.ignored()
+        annotated = annotated_area.contains(boxes) if annotated_area is not None else np.ones(len(boxes), bool)
         for index, box in enumerate(truth):
             if ignored[index]:
                 continue
@@ -297,7 +307,7 @@ def analyse_misses(images: Sequence[ImageResult], frames: Sequence[int],
             overlaps = iou[:, detection] if len(truth) else np.zeros(0)
             if np.any(ignored & (overlaps >= IOU_THRESHOLD)):
                 continue  # someone we do not ask for, as in the AP
-            kind = _false_positive_kind(box, truth, overlaps, found)
+            kind = _false_positive_kind(box, truth, overlaps, found, bool(annotated[detection]))
             false_positives.append(FalsePositive(int(frame), box, float(score), kind))
     return MissAnalysis(point.threshold, float(point.evaluation.precision[point.index]),
                         float(point.evaluation.recall[point.index]), people, false_positives)

@@ -110,6 +110,9 @@ def test_vc_eval_scores_every_detector_and_draws_the_result(bundle, tmp_path):
                               "yolo", "yolo again"}
     assert detectors["yolo"]["ap50"] == 1.0 and detectors["yolo"]["ground_truth"] == 3
     assert all(0.0 <= d["ap50"] <= 1.0 and d["ms_per_frame"]["median"] > 0 for d in detectors.values())
+    # Three annotated frames of one standing person span no area: scored in it, every detector scores the same.
+    assert metrics["annotated_area"]["polygon"] is None
+    assert all(d["ap50_in_annotated_area"] == d["ap50"] for d in detectors.values())
     # The video is tracked at its own rate, and the bundle is scored with and without tracking.
     assert metrics["tracking"]["fps"] == 10 and metrics["tracking"]["config"]["window_s"] > 0
     # The bundle's pose and the second model's against the first: a model agrees with itself everywhere.

@@ -44,7 +44,8 @@ def test_every_person_and_false_positive_gets_its_kind(analysis):
     assert analysis.score_threshold == pytest.approx(0.5)  # best F1 keeps every detection here
     assert analysis.outcomes() == {"found": 7, "near miss": 3, "missed": 1}
     assert analysis.outcomes(grouped=True) == {"found": 0, "near miss": 2, "missed": 0}  # D and E
-    assert analysis.false_positive_kinds() == {"duplicate": 1, "merged": 1, "misplaced": 1, "background": 1}
+    assert analysis.false_positive_kinds() == {"duplicate": 1, "merged": 1, "misplaced": 1,
+                                               "outside the annotated area": 0, "background": 1}
     assert analysis.precision == pytest.approx(7 / 11) and analysis.recall == pytest.approx(7 / 11)
 
 

@@ -104,7 +104,8 @@ def report(result: EvaluationReport, output: Path) -> None:
     print(f"vc-eval: {result.frames} frames of {result.video.name}, {result.evaluations[OURS].ground_truth} people -> "
           f"{output}")
     for name, summary in result.metrics["detectors"].items():
-        print(f"  {name:32s} AP50 {summary['ap50']:.3f}   {summary['ms_per_frame']['median']:8.1f} ms/frame")
+        print(f"  {name:32s} AP50 {summary['ap50']:.3f} ({summary['ap50_in_annotated_area']:.3f} in the annotated "
+              f"area)   {summary['ms_per_frame']['median']:8.1f} ms/frame")
     if result.misses is not None:
         print(_miss_summary(result.misses))
     tracking = result.metrics["tracking"]
