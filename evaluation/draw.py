@@ -6,7 +6,7 @@ import cv2
 import numpy as np
 
 from vc.deploy.runtime import Person
-from vc.evaluation.misses import FalsePositive, PersonOutcome
+from vc.evaluation.misses import OUTSIDE_ANNOTATED_AREA, FalsePositive, PersonOutcome
 from vc.keypoints import COCO_SKELETON
 
 #: Distinct colours (RGB) cycled over people.
@@ -16,6 +16,11 @@ TRUTH_COLOUR = (255, 255, 255)
 #: Ground-truth boxes by outcome in an error sheet, and the false positives' colour (RGB).
 OUTCOME_COLOURS = {"found": (255, 255, 255), "near miss": (255, 160, 0), "missed": (255, 0, 0)}
 FALSE_POSITIVE_COLOUR = (255, 0, 255)
+#: What a false positive's kind is labelled with in an error sheet (vc.evaluation.misses.FALSE_POSITIVE_KINDS).
+FALSE_POSITIVE_LABELS = {"duplicate": "dup", "merged": "mrg", "misplaced": "mis", OUTSIDE_ANNOTATED_AREA: "out",
+                         "background": "bg"}
+#: The area the ground truth annotates, outlined in an error sheet (RGB).
+ANNOTATED_AREA_COLOUR = (0, 255, 255)
 MASK_OPACITY = 0.4
 
 
@@ -55,19 +60,22 @@ def draw_people(frame: np.ndarray, people: list[Person], keypoint_threshold: flo
 
 
 def draw_errors(frame: np.ndarray, number: int, people: list[Person], outcomes: list[PersonOutcome],
-                false_positives: list[FalsePositive]) -> np.ndarray:
+                false_positives: list[FalsePositive], annotated_area: np.ndarray | None = None) -> np.ndarray:
     """A copy of ``frame`` with the detections (:func:`draw_people`), each ground-truth person's box in the colour of
-    its outcome (white found, orange near miss, red missed), each false positive in magenta with its kind's initial
-    (duplicate, merged, misplaced, background), and a caption with the frame number and its errors."""
+    its outcome (white found, orange near miss, red missed), each false positive in magenta labelled with its kind
+    (:data:`FALSE_POSITIVE_LABELS`), the outline of the area the ground truth annotates (a polygon (K, 2), when
+    given) and a caption with the frame number and its errors."""
     image = draw_people(frame, people)
+    if annotated_area is not None:
+        cv2.polylines(image, [np.round(annotated_area).astype(np.int32)], True, ANNOTATED_AREA_COLOUR, 1, cv2.LINE_8)
     for person in outcomes:
         thickness = 1 if person.outcome == "found" else 2
         cv2.rectangle(image, _point(person.box[:2]), _point(person.box[2:]), OUTCOME_COLOURS[person.outcome],
                       thickness, cv2.LINE_AA)
     for false in false_positives:
         cv2.rectangle(image, _point(false.box[:2]), _point(false.box[2:]), FALSE_POSITIVE_COLOUR, 1, cv2.LINE_AA)
-        cv2.putText(image, false.kind[0], (int(false.box[0]) + 2, int(false.box[3]) - 3), cv2.FONT_HERSHEY_SIMPLEX,
-                    0.45, FALSE_POSITIVE_COLOUR, 1, cv2.LINE_AA)
+        cv2.putText(image, FALSE_POSITIVE_LABELS[false.kind], (int(false.box[0]) + 2, int(false.box[3]) - 3),
+                    cv2.FONT_HERSHEY_SIMPLEX, 0.45, FALSE_POSITIVE_COLOUR, 1, cv2.LINE_AA)
     missed = sum(person.outcome == "missed" for person in outcomes)
     near = sum(person.outcome == "near miss" for person in outcomes)
     caption = f"frame {number}: {missed} missed, {near} near, {len(false_positives)} false"

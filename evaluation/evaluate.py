@@ -163,8 +163,9 @@ def _track_accuracy(images: list[ImageResult], people_by_frame: dict[int, list[P
 
 
 def _write_miss_analysis(folder: Path, misses: MissAnalysis, video: Path, frames: FrameRange,
-                         people_by_frame: dict[int, list[Person]], title: str) -> None:
-    """``misses.json``, ``misses.png`` and ``worst_frames.png`` (the frames of most errors, read again)."""
+                         people_by_frame: dict[int, list[Person]], title: str, annotated_area: AnnotatedArea) -> None:
+    """``misses.json``, ``misses.png`` and ``worst_frames.png`` (the frames of most errors, read again, with the
+    annotated area outlined)."""
     write_json(folder / "misses.json", misses.to_dict())
     plot_miss_analysis(misses, folder / "misses.png", title)
     worst = set(misses.worst_frames(SHEET_FRAMES))
@@ -172,7 +173,8 @@ def _write_miss_analysis(folder: Path, misses: MissAnalysis, video: Path, frames
         return
     sheet = [draw_errors(frame.image, frame.number, people_by_frame[frame.number],
                          [person for person in misses.people if person.frame == frame.number],
-                         [false for false in misses.false_positives if false.frame == frame.number])
+                         [false for false in misses.false_positives if false.frame == frame.number],
+                         annotated_area.polygon)
              for frame in FrameSource(video, frames) if frame.number in worst]
     write_image(folder / "worst_frames.png", contact_sheet(sheet))
 
@@ -269,5 +271,5 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
                                 f"{reference}'s confident ones (conf >= {REFERENCE_CONFIDENCE})")
         if misses is not None:
             _write_miss_analysis(staging, misses, request.video, frames, people_by_frame,
-                                 f"{metrics['scene']}: {source.count} real frames")
+                                 f"{metrics['scene']}: {source.count} real frames", annotated_area)
     return EvaluationReport(metrics, evaluations, misses, agreements, source.count, request.video)

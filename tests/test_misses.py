@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from vc.deploy.runtime import Person
-from vc.evaluation.draw import OUTCOME_COLOURS, draw_errors
+from vc.evaluation.draw import ANNOTATED_AREA_COLOUR, OUTCOME_COLOURS, draw_errors
 from vc.evaluation.metrics import ImageResult
 from vc.evaluation.misses import analyse_misses, region_lookup
 from vc.evaluation.plots import plot_miss_analysis
@@ -102,3 +102,7 @@ def test_the_figure_and_the_error_sheet_are_drawn(analysis, tmp_path):
                         [f for f in analysis.false_positives if f.frame == 7])
     assert tuple(drawn[130, C[0]]) == OUTCOME_COLOURS["missed"]  # the missed person's box edge is red
     assert tuple(drawn[130, B[0]]) == OUTCOME_COLOURS["near miss"]
+    # The annotated area is outlined when given, and only then.
+    area = np.array([[500, 250], [690, 250], [690, 390], [500, 390]], float)
+    outlined = draw_errors(frame, 7, [person], [], [], area)
+    assert tuple(outlined[320, 499:502].max(axis=0)) == ANNOTATED_AREA_COLOUR and not drawn[320, 499:502].any()
