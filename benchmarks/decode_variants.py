@@ -25,9 +25,10 @@ from vc.deploy.decode import DecodeConfig
 from vc.deploy.frames import FrameRange, FrameSource
 from vc.deploy.runtime import Runtime
 from vc.evaluation.agreement import pose_agreement
+from vc.evaluation.annotated_area import AnnotatedArea
 from vc.evaluation.baselines import YoloPoseOnnx
 from vc.evaluation.metrics import ImageResult, evaluate
-from vc.evaluation.misses import analyse_misses, region_lookup
+from vc.evaluation.misses import FALSE_POSITIVE_KINDS, analyse_misses, region_lookup
 from vc.evaluation.mot import read_mot_boxes
 from vc.io import write_json
 
@@ -99,8 +100,11 @@ def measure(runtime: Runtime, numbers: list[int], maps: list[list[np.ndarray]], 
                                   np.array([p.score for p in people]),
                                   keypoints=np.array([p.keypoints for p in people]).reshape(-1, 17, 3)))
     areas = {runner.entry.name: runner.entry.owned_image_area for runner in runtime.runners}
-    misses = analyse_misses(images, numbers, region_lookup(areas))
-    result = {"changes": changes, "ap50": round(evaluate(images).ap50, 4)}
+    annotated_area = AnnotatedArea.of(truth)
+    misses = analyse_misses(images, numbers, region_lookup(areas), annotated_area)
+    in_area = [replace(image, detection_ignore=~annotated_area.contains(image.boxes)) for image in images]
+    result = {"changes": changes, "ap50": round(evaluate(images).ap50, 4),
+              "ap50_in_annotated_area": round(evaluate(in_area).ap50, 4)}
     if misses is not None:
         summary = misses.summary()
         result.update(precision=summary["precision"], recall=summary["recall"], outcomes=summary["outcomes"],
@@ -113,13 +117,14 @@ def measure(runtime: Runtime, numbers: list[int], maps: list[list[np.ndarray]], 
 
 
 def _table(results: dict[str, dict]) -> str:
-    lines = ["| variant | AP50 | precision | recall | near misses | missed | recall apart | recall overlapping | "
-             "false positives (dup/merged/misplaced/background) | near-miss width ratio | pose agreement |",
-             "|" + "---|" * 11]
+    lines = ["| variant | AP50 | AP50 in the annotated area | precision | recall | near misses | missed | "
+             f"recall apart | recall overlapping | false positives ({'/'.join(FALSE_POSITIVE_KINDS)}) | "
+             "near-miss width ratio | pose agreement |", "|" + "---|" * 12]
     for name, r in results.items():
         overlap = r.get("recall_by_overlap", {})
         kinds = r.get("false_positive_kinds", {})
-        lines.append(f"| {name} | {r['ap50']:.3f} | {r.get('precision', 0):.3f} | {r.get('recall', 0):.3f} | "
+        lines.append(f"| {name} | {r['ap50']:.3f} | {r.get('ap50_in_annotated_area', '')} | "
+                     f"{r.get('precision', 0):.3f} | {r.get('recall', 0):.3f} | "
                      f"{r.get('outcomes', {}).get('near miss', '')} | {r.get('outcomes', {}).get('missed', '')} | "
                      f"{overlap.get('apart', {}).get('recall', '')} | "
                      f"{overlap.get('overlapping another', {}).get('recall', '')} | "
