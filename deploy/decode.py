@@ -106,11 +106,13 @@ class DecodedPerson:
     weak: bool = False  # below the centre threshold, decoded only when asked for (``decode``'s ``weak_above``)
 
 
-def _refine_many(heatmaps: np.ndarray, rows: np.ndarray, columns: np.ndarray) -> np.ndarray:
-    """Sub-cell (x, y) of the peak at (rows[k], columns[k]) of each ``heatmaps[k]``: the vertex of a parabola
-    through the peak and its neighbours along each axis (no shift at the border, or where the values do not curve
-    down). ``heatmaps`` may be one map broadcast to every peak."""
-    index = np.arange(len(rows))
+def _refine_many(heatmaps: np.ndarray, rows: np.ndarray, columns: np.ndarray,
+                 maps: np.ndarray | None = None) -> np.ndarray:
+    """Sub-cell (x, y) of the peak at (rows[k], columns[k]) of map ``heatmaps[maps[k]]`` (``maps`` defaults to
+    0, 1, 2, ...: one map per peak): the vertex of a parabola through the peak and its neighbours along each
+    axis (no shift at the border, or where the values do not curve down). ``heatmaps`` may be one map broadcast
+    to every peak."""
+    index = np.arange(len(rows)) if maps is None else maps
     _, height, width = heatmaps.shape
     peak = heatmaps[index, rows, columns]
 
@@ -201,9 +203,11 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     shared_out = (dict(zip(strong_indices, _exclusive_keypoints(keypoint_maps, centres_cells[strong],
                                                                 heights_cells[strong], config), strict=True))
                   if config.exclusive_keypoints else {})
+    searched = [index for index in range(len(peaks)) if index not in shared_out]
+    own_keypoints = dict(zip(searched, _keypoints(keypoint_maps, centres_cells[searched], heights_cells[searched],
+                                                  config), strict=True))
     for index, (score, centre_cells) in enumerate(peaks):
-        keypoints = (shared_out[index] if index in shared_out
-                     else _keypoints(keypoint_maps, centre_cells, heights_cells[index], config))
+        keypoints = shared_out[index] if index in shared_out else own_keypoints[index]
         pair_handedness = None
         if image_ordered:
             row, column = int(round(centre_cells[1])), int(round(centre_cells[0]))
@@ -223,38 +227,60 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     return people
 
 
-def _keypoints(keypoint_maps: np.ndarray, centre_cells: np.ndarray, height_cells: float,
+def _keypoints(keypoint_maps: np.ndarray, centres_cells: np.ndarray, heights_cells: np.ndarray,
                config: DecodeConfig) -> np.ndarray:
-    """(17, 3) keypoints of the person at ``centre_cells``: each the maximum of its map times the upright prior.
+    """(N, 17, 3) keypoints of the N people at ``centres_cells``: each the maximum of its map times the person's
+    upright prior.
 
-    The search covers the cells within 3 prior widths of the expected position (beyond that the prior is below
-    1 %), which keeps a person's cost independent of the region's size.
+    A person's search covers the cells within 3 prior widths of the expected position (beyond that the prior is
+    below 1 %), which keeps their cost independent of the region's size. All people are searched at once, in
+    windows of one size (the largest person's, moved inside the map where it would stick out) with the cells
+    outside each person's own window left out: the first maximum in reading order is the one a search of their
+    own window finds.
     """
-    sigma = config.search_sigma * height_cells
-    reach = int(np.ceil(3.0 * sigma))
-    _, height, width = keypoint_maps.shape
-    x0, x1 = max(int(round(centre_cells[0])) - reach, 0), min(int(round(centre_cells[0])) + reach + 1, width)
-    keypoints = np.zeros((keypoint_maps.shape[0], 3))
-    if x0 >= x1:
+    count = len(centres_cells)
+    channels, height, width = keypoint_maps.shape
+    keypoints = np.zeros((count, channels, 3))
+    if not count:
         return keypoints
-    columns = np.arange(x0, x1)
-    prior_x = np.exp(-(columns - centre_cells[0]) ** 2 / (2.0 * sigma**2))
-    expected_rows = centre_cells[1] + UPRIGHT_OFFSETS * height_cells
-    starts = np.maximum(np.round(expected_rows).astype(int) - reach, 0)
-    stops = np.minimum(np.round(expected_rows).astype(int) + reach + 1, height)
-    seen = starts < stops  # a keypoint whose expected position is far off the map is not looked for
+    sigmas = config.search_sigma * np.asarray(heights_cells, np.float64)  # (N,)
+    reaches = np.ceil(3.0 * sigmas).astype(int)
+    centre_columns = np.round(centres_cells[:, 0]).astype(int)
+    x0 = np.maximum(centre_columns - reaches, 0)
+    x1 = np.minimum(centre_columns + reaches + 1, width)
+    expected_rows = centres_cells[:, 1, None] + UPRIGHT_OFFSETS[None, :channels] * heights_cells[:, None]  # (N, 17)
+    starts = np.maximum(np.round(expected_rows).astype(int) - reaches[:, None], 0)
+    stops = np.minimum(np.round(expected_rows).astype(int) + reaches[:, None] + 1, height)
+    # A keypoint whose expected position is far off the map is not looked for.
+    seen = (starts < stops) & (x0 < x1)[:, None]
     if not seen.any():
         return keypoints
-    y0, y1 = starts[seen].min(), stops[seen].max()
-    rows = np.arange(y0, y1)
-    in_window = (rows[None] >= starts[:, None]) & (rows[None] < stops[:, None])  # (17, rows)
-    prior_y = np.exp(-(rows[None] - expected_rows[:, None]) ** 2 / (2.0 * sigma**2))
-    window = keypoint_maps[:, y0:y1, x0:x1]
-    weighted = np.where(in_window[:, :, None], window * (prior_y[:, :, None] * prior_x[None, None, :]), -np.inf)
-    best = weighted.reshape(len(weighted), -1).argmax(axis=1)[seen]
-    peak_rows, peak_columns = y0 + best // len(columns), x0 + best % len(columns)
-    keypoints[seen, :2] = cells_to_input(_refine_many(keypoint_maps[seen], peak_rows, peak_columns), config.stride)
-    keypoints[seen, 2] = keypoint_maps[seen, peak_rows, peak_columns]
+    y0 = np.where(seen, starts, height).min(axis=1)
+    y1 = np.where(seen, stops, 0).max(axis=1)
+    window_height = int(np.max(y1 - y0, initial=1))
+    window_width = int(np.max(x1 - x0, initial=1))
+    top = np.clip(y0, 0, height - window_height)  # where each person's window starts (N,)
+    left = np.clip(x0, 0, width - window_width)
+    rows = top[:, None] + np.arange(window_height)  # (N, R)
+    columns = left[:, None] + np.arange(window_width)  # (N, C)
+    prior_x = np.exp(-(columns - centres_cells[:, 0, None]) ** 2 / (2.0 * sigmas[:, None] ** 2))  # (N, C)
+    prior_y = np.exp(-(rows[:, None, :] - expected_rows[:, :, None]) ** 2
+                     / (2.0 * sigmas[:, None, None] ** 2))  # (N, 17, R)
+    in_window = ((rows[:, None, :] >= starts[:, :, None]) & (rows[:, None, :] < stops[:, :, None])
+                 & (rows[:, None, :] >= y0[:, None, None]) & (rows[:, None, :] < y1[:, None, None]))  # (N, 17, R)
+    in_columns = (columns >= x0[:, None]) & (columns < x1[:, None])  # (N, C)
+    windows = np.lib.stride_tricks.sliding_window_view(keypoint_maps, (window_height, window_width), axis=(1, 2))
+    window = windows[:, top, left].transpose(1, 0, 2, 3)  # (N, 17, R, C)
+    usable = in_window[..., None] & in_columns[:, None, None, :]
+    weighted = np.where(usable, window * (prior_y[..., None] * prior_x[:, None, None, :]), -np.inf)
+    best = weighted.reshape(count, channels, -1).argmax(axis=2)  # (N, 17)
+    people, keypoint_channels = np.nonzero(seen)
+    best = best[people, keypoint_channels]
+    peak_rows = top[people] + best // window_width
+    peak_columns = left[people] + best % window_width
+    keypoints[people, keypoint_channels, :2] = cells_to_input(
+        _refine_many(keypoint_maps, peak_rows, peak_columns, keypoint_channels), config.stride)
+    keypoints[people, keypoint_channels, 2] = keypoint_maps[keypoint_channels, peak_rows, peak_columns]
     return keypoints
 
 

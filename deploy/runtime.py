@@ -138,7 +138,7 @@ class RegionRunner:
         decoded = decode(heatmaps, config or self.entry.decode, self.entry.expected_height_px, self.weak_people_above)
         if not decoded:
             return []
-        boxes = np.array([np.r_[self.to_frame(p.box[:2]), self.to_frame(p.box[2:])] for p in decoded])
+        boxes = self.to_frame(np.array([person.box for person in decoded]).reshape(-1, 2)).reshape(-1, 4)
         feet = np.column_stack([(boxes[:, 0] + boxes[:, 2]) / 2, boxes[:, 3]])
         owned = in_area(feet, self.entry.owned_image_area)
         return [self._person(person, box) for person, box, keep in zip(decoded, boxes, owned, strict=True) if keep]

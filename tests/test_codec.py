@@ -11,7 +11,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from vc.deploy.decode import DecodeConfig, decode, find_peaks
+from vc.deploy.decode import DecodeConfig, _keypoints, decode, find_peaks
 from vc.deploy.heatmaps import (
     ANATOMICAL_CHANNELS,
     CENTRE_CHANNEL,
@@ -199,6 +199,21 @@ def test_noise_decodes_to_at_most_max_people_strongest_first() -> None:
     assert people[0].score == pytest.approx(strongest[0])
     assert np.all(np.diff([person.score for person in people]) <= 0)
 
+
+
+def test_people_searched_together_get_the_keypoints_each_would_get_alone() -> None:
+    """The keypoint search runs over all people at once in windows of the largest person's size: small and large
+    people, people at every edge of the map, and a plateau (ties go to the first cell in reading order)."""
+    rng = np.random.default_rng(4)
+    maps = rng.random((17, 48, 80)).astype(np.float32)
+    maps[:, 10:30, 20:40] = 0.9  # a plateau wider than a small person's window
+    centres = np.array([[0.0, 0.0], [79.0, 47.0], [30.2, 20.7], [5.5, 44.1], [78.4, 2.2], [40.0, 24.0], [25.0, 15.0]])
+    heights = np.array([4.0, 30.0, 12.5, 8.0, 60.0, 2.0, 6.0])
+    config = DecodeConfig(stride=STRIDE)
+    together = _keypoints(maps, centres, heights, config)
+    alone = np.concatenate([_keypoints(maps, centres[k:k + 1], heights[k:k + 1], config) for k in range(len(centres))])
+    np.testing.assert_array_equal(together, alone)
+    assert (together[..., 2] > 0).sum() > 0.8 * together[..., 2].size  # most keypoints were searched and found
 
 
 def test_exclusive_keypoints_keep_a_neighbour_s_feet_out_of_a_person_s_box():
