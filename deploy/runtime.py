@@ -119,6 +119,7 @@ class RegionRunner:
         self.origin = np.array([x0, y0], np.float64)
         self.scale = np.array([entry.input_size[0] / width, entry.input_size[1] / height])
         self.frame_size = frame_size
+        self._cells_of_pixels: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
 
     def heatmaps(self, frame: np.ndarray) -> np.ndarray:
         x0, y0, width, height = self.entry.crop_window
@@ -150,15 +151,24 @@ class RegionRunner:
         return Person(self.entry.name, person.score, box, keypoints, mask, origin, person.pair_handedness,
                       weak=person.weak)
 
+    def _cells_of_crop_pixels(self, cells_shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+        """The heat-map row of each crop pixel row and column of each crop pixel column (the cell their centres
+        fall in), computed once per heat-map shape."""
+        if cells_shape not in self._cells_of_pixels:
+            _, _, crop_width, crop_height = self.entry.crop_window
+            stride = self.entry.decode.stride
+            columns = np.minimum(((np.arange(crop_width) + 0.5) * self.scale[0] / stride).astype(int),
+                                 cells_shape[1] - 1)
+            rows = np.minimum(((np.arange(crop_height) + 0.5) * self.scale[1] / stride).astype(int),
+                              cells_shape[0] - 1)
+            self._cells_of_pixels[cells_shape] = rows, columns
+        return self._cells_of_pixels[cells_shape]
+
     def _frame_mask(self, mask_cells: np.ndarray) -> tuple[np.ndarray, tuple[int, int]]:
         """Cells -> frame pixels over the mask's bounding rectangle: each frame pixel of the crop takes the cell
         its centre falls in. Returns the mask and the frame pixel of its top-left corner."""
-        x0, y0, crop_width, crop_height = self.entry.crop_window
-        stride = self.entry.decode.stride
-        columns = np.minimum(((np.arange(crop_width) + 0.5) * self.scale[0] / stride).astype(int),
-                             mask_cells.shape[1] - 1)
-        rows = np.minimum(((np.arange(crop_height) + 0.5) * self.scale[1] / stride).astype(int),
-                          mask_cells.shape[0] - 1)
+        x0, y0, _, _ = self.entry.crop_window
+        rows, columns = self._cells_of_crop_pixels(mask_cells.shape)
         cell_rows, cell_columns = np.nonzero(mask_cells)
         if not len(cell_rows):
             return np.zeros((0, 0), bool), (x0, y0)
