@@ -4,8 +4,8 @@
         [--knob width --value 16]   # one knob's chosen values; its others keep their earlier results
         [--dev-video V --dev-gt GT.txt --dev-frames 1:400:5] [--out benchmarks/results] [--no-runtime]
 
-Every point is the standard compile (2 000 samples/region at 16 spp with effects, the ``fast`` network, 1 800
-steps, per-region models, fp32) with one knob changed (:data:`KNOBS`):
+Every point is the standard compile (2 000 samples/region at 16 spp with effects, people placed alone, the ``fast``
+network, 1 800 steps, per-region models, fp32) with one knob changed (:data:`KNOBS`):
 
 - ``spp`` 4 / 16 / 64, ``effects`` on / off (shadows; lens distortion stays: labels must follow the lens),
   ``samples`` per region 1k / 2k / 5k / 20k / 50k,
@@ -20,9 +20,9 @@ steps, per-region models, fp32) with one knob changed (:data:`KNOBS`):
   from the background alone, or matched (light and every camera effect the scene calls for: the standard compile),
   and matched less one camera effect at a time (``benchmarks/effects_ablation.py`` runs this knob and adds each
   variant's render cost per sample);
-- ``groups``: people placed alone (the standard compile) or with the scene's ``priors.group_rate`` at 0.3 (a
-  person starts a group of 2-4 walking abreast or in file; ``render/placement.py``), each with training seeds
-  0, 1 and 2 (renders shared);
+- ``groups``: people placed alone (every point's reference, whatever the scene's own ``priors.group_rate``) or
+  with a group rate of 0.3 (a person starts a group of 2-4 walking abreast or in file; ``render/placement.py``),
+  each with training seeds 0, 1 and 2 (renders shared);
 - ``clothing``: what the people wear (``priors.clothing``): the scene's own mixed street clothing against winter
   coats, each with training seeds 0, 1 and 2 (renders shared) and the compute knob's faster trainer;
 - ``separable``: the ``fast`` network (off) against ``fast-sep`` (on, the default since), whose SB units factor
@@ -106,7 +106,10 @@ class Point:
     heatmap_channels: int = HEATMAP_CHANNELS  # the trainer's output layout (19: anatomical pairs, before handedness)
     train_seed: int = 0
     photometry: str = "matched"  # see PHOTOMETRY; points stored before the knob were "off"
-    group_rate: float | None = None  # None: the scene's own priors.group_rate
+    # people placed alone, whatever the scene says (its own rate is a knob value like any other): every point
+    # before the groups knob was measured so, and a scene that since says its people walk in groups
+    # (scenes/pets09_s2l1) must not turn the reference into another compile under the same cache keys
+    group_rate: float = 0.0
     compute: str = "fp32"  # the trainer's compute settings, a name of TRAINING_COMPUTE
     clothing: str | None = None  # None: the scene's own priors.clothing
 
@@ -118,7 +121,7 @@ class Point:
         # "off" keeps the keys of the renders made before photometric matching (they were rendered so), and the
         # scene's own group rate those made before the groups knob
         return (("photometry",) if self.photometry != "off" else ()) + (
-            ("group_rate",) if self.group_rate is not None else ()) + (
+            ("group_rate",) if self.group_rate else ()) + (
             ("clothing",) if self.clothing is not None else ())
 
     def render_key(self) -> str:
@@ -171,7 +174,7 @@ KNOBS: dict[str, dict[str, Point]] = {
         for separable in (False, True) for seed in (0, 1, 2)},
     # groups on the default network: "alone" are the separable knob's "on" points (the same runs)
     "groups_sep": {f"{'rate 0.3' if grouped else 'alone'}, seed {seed}": replace(
-        BASE, compute="bf16 channels-last", train_seed=seed, arch="fast-sep", group_rate=0.3 if grouped else None)
+        BASE, compute="bf16 channels-last", train_seed=seed, arch="fast-sep", group_rate=0.3 if grouped else 0.0)
         for grouped in (False, True) for seed in (0, 1, 2)},
 }
 
@@ -251,8 +254,7 @@ class Sweep:
             document["effects"] = ["lens_distortion"] if distorted else []
         elif point.photometry != "matched":
             document.update(self.photometry_overrides(point.photometry))
-        if point.group_rate is not None:
-            document["priors"] = {**document.get("priors", {}), "group_rate": point.group_rate}
+        document["priors"] = {**document.get("priors", {}), "group_rate": point.group_rate}
         if point.clothing is not None:
             document["priors"] = {**document.get("priors", {}), "clothing": point.clothing}
         path = self.work / "scenes" / f"{point.render_key()}.yaml"
