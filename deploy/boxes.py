@@ -1,5 +1,6 @@
-"""Box overlap, numpy only: the appliance's tracker (:mod:`vc.deploy.tracking`) and the metrics
-(:mod:`vc.evaluation.metrics`) measure it the same way. Boxes are [x0, y0, x1, y1] (outer edges)."""
+"""Box overlap and foot points, numpy only: the appliance (:mod:`vc.deploy.runtime`, :mod:`vc.deploy.tracking`)
+and the evaluation (:mod:`vc.evaluation.metrics`, :mod:`vc.evaluation.misses`) measure them the same way. Boxes
+are [x0, y0, x1, y1] (outer edges)."""
 
 from __future__ import annotations
 
@@ -16,3 +17,9 @@ def box_iou(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     area_b = np.prod(np.clip(b[:, 2:] - b[:, :2], 0.0, None), axis=-1)
     union = area_a[:, None] + area_b[None, :] - intersection
     return np.where(union > 0, intersection / np.where(union > 0, union, 1.0), 0.0)
+
+
+def foot_points(boxes: np.ndarray) -> np.ndarray:
+    """(N, 2) bottom centres of boxes (N, 4): where a person stands."""
+    boxes = np.asarray(boxes, np.float64).reshape(-1, 4)
+    return np.column_stack([(boxes[:, 0] + boxes[:, 2]) / 2, boxes[:, 3]])

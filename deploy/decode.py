@@ -267,8 +267,7 @@ def _keypoints(keypoint_maps: np.ndarray, centres_cells: np.ndarray, heights_cel
     prior_x = np.exp(-(columns - centres_cells[:, 0, None]) ** 2 / (2.0 * sigmas[:, None] ** 2))  # (N, C)
     prior_y = np.exp(-(rows[:, None, :] - expected_rows[:, :, None]) ** 2
                      / (2.0 * sigmas[:, None, None] ** 2))  # (N, 17, R)
-    in_window = ((rows[:, None, :] >= starts[:, :, None]) & (rows[:, None, :] < stops[:, :, None])
-                 & (rows[:, None, :] >= y0[:, None, None]) & (rows[:, None, :] < y1[:, None, None]))  # (N, 17, R)
+    in_window = (rows[:, None, :] >= starts[:, :, None]) & (rows[:, None, :] < stops[:, :, None])  # (N, 17, R)
     in_columns = (columns >= x0[:, None]) & (columns < x1[:, None])  # (N, C)
     windows = np.lib.stride_tricks.sliding_window_view(keypoint_maps, (window_height, window_width), axis=(1, 2))
     window = windows[:, top, left].transpose(1, 0, 2, 3)  # (N, 17, R, C)

@@ -18,7 +18,7 @@ import numpy as np
 import onnxruntime as ort
 
 from vc.cores import usable_cores
-from vc.deploy.boxes import box_iou
+from vc.deploy.boxes import box_iou, foot_points
 from vc.deploy.bundle import Bundle, RegionEntry, load_bundle
 from vc.deploy.decode import DecodeConfig, DecodedPerson, decode
 from vc.errors import InputError
@@ -140,8 +140,7 @@ class RegionRunner:
         if not decoded:
             return []
         boxes = self.to_frame(np.array([person.box for person in decoded]).reshape(-1, 2)).reshape(-1, 4)
-        feet = np.column_stack([(boxes[:, 0] + boxes[:, 2]) / 2, boxes[:, 3]])
-        owned = in_area(feet, self.entry.owned_image_area)
+        owned = in_area(foot_points(boxes), self.entry.owned_image_area)
         return [self._person(person, box) for person, box, keep in zip(decoded, boxes, owned, strict=True) if keep]
 
     def _person(self, person: DecodedPerson, box: np.ndarray) -> Person:

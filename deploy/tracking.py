@@ -56,7 +56,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from vc.deploy.boxes import box_iou
+from vc.deploy.boxes import box_iou, foot_points
 from vc.deploy.frames import FrameSource
 from vc.deploy.heatmaps import PAIRS, swap_pairs
 from vc.deploy.runtime import Person
@@ -107,7 +107,7 @@ class _Track:
 
     def predicted_foot(self, time_s: float) -> np.ndarray:
         """Where the feet are at ``time_s`` if they keep the window's velocity."""
-        return foot_points_of(self.boxes[-1] + self.shift(time_s))[0]
+        return foot_points(self.boxes[-1] + self.shift(time_s))[0]
 
 
 def tracking_rate(source: FrameSource, fps: float | None) -> float | None:
@@ -116,12 +116,6 @@ def tracking_rate(source: FrameSource, fps: float | None) -> float | None:
     if fps is not None:
         return fps
     return source.fps if source.kind == "video" else None
-
-
-def foot_points_of(boxes: np.ndarray) -> np.ndarray:
-    """(N, 2) bottom centres of boxes (N, 4), frame px."""
-    boxes = np.asarray(boxes, np.float64).reshape(-1, 4)
-    return np.column_stack([(boxes[:, 0] + boxes[:, 2]) / 2, boxes[:, 3]])
 
 
 def vertical_speed(times: np.ndarray, foot_y: np.ndarray, height: float, jitter_heights: float
@@ -187,7 +181,7 @@ class Tracker:
                    ) -> list[_Track | None]:
         """Step 1: each person's track among ``tracks``; without one, a new track or None."""
         boxes = np.array([p.box for p in people], np.float64).reshape(-1, 4)
-        feet, heights = foot_points_of(boxes), np.maximum(boxes[:, 3] - boxes[:, 1], 1.0)
+        feet, heights = foot_points(boxes), np.maximum(boxes[:, 3] - boxes[:, 1], 1.0)
         candidates = []
         predicted = [track.predicted_foot(time_s) for track in tracks]
         for i, (foot, height) in enumerate(zip(feet, heights, strict=True)):
@@ -217,7 +211,7 @@ class Tracker:
         if len(track.times) < config.min_observations:  # the track holds its window's observations only
             return person
         boxes = np.array(track.boxes)
-        speed, error = vertical_speed(np.array(track.times), foot_points_of(boxes)[:, 1],
+        speed, error = vertical_speed(np.array(track.times), foot_points(boxes)[:, 1],
                                       float(np.mean(boxes[:, 3] - boxes[:, 1])), config.foot_jitter_heights)
         clear = abs(speed) >= config.min_significance * error
         if speed == 0.0 or not (clear or abs(person.handedness) < config.trust_network):
@@ -238,7 +232,7 @@ class Tracker:
                 continue
             last = track.last
             keypoints = last.keypoints.copy()
-            keypoints[:, :2] += foot_points_of(shift)[0]  # moved as the feet move
+            keypoints[:, :2] += foot_points(shift)[0]  # moved as the feet move
             carried.append(replace(last, score=last.score * float(np.exp(-elapsed / config.coast_score_decay_s)),
                                    box=box, keypoints=keypoints, mask=np.zeros((0, 0), bool),
                                    mask_origin=(0, 0), coasted=True))

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import json
 import time
-from dataclasses import asdict, dataclass, field, replace
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import cv2
@@ -101,12 +101,8 @@ class _Record:
                                        keypoints=detections.keypoints))
         self.milliseconds.append(seconds * 1e3)
 
-    def in_area(self, area: AnnotatedArea) -> Evaluation:
-        """Scored as usual, except that a detection outside ``area`` finding nobody is not held against it."""
-        return evaluate([replace(image, detection_ignore=~area.contains(image.boxes)) for image in self.images])
-
-    def summary(self, evaluation: Evaluation, in_area: Evaluation) -> dict:
-        return {"ap50": round(evaluation.ap50, 4), "ap50_in_annotated_area": round(in_area.ap50, 4),
+    def summary(self, evaluation: Evaluation, inside_area: Evaluation) -> dict:
+        return {"ap50": round(evaluation.ap50, 4), "ap50_in_annotated_area": round(inside_area.ap50, 4),
                 "ground_truth": evaluation.ground_truth,
                 "detections": int(len(evaluation.scores)),
                 "ms_per_frame": {"median": round(float(np.median(self.milliseconds)), 2),
@@ -249,7 +245,7 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
         "threads": request.threads, "iou_threshold": 0.5,
         "tracking": tracking,
         "annotated_area": annotated_area.to_dict(),
-        "detectors": {name: record.summary(evaluations[name], record.in_area(annotated_area))
+        "detectors": {name: record.summary(evaluations[name], annotated_area.evaluate_inside(record.images))
                       for name, record in records.items()},
         "operating_point": misses.summary() if misses is not None else {},
         **({"pose_agreement": {"reference": next(iter(agreements)), "reference_confidence": REFERENCE_CONFIDENCE,

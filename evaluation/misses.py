@@ -37,7 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vc.deploy.boxes import box_iou
+from vc.deploy.boxes import box_iou, foot_points
 from vc.deploy.runtime import in_area
 from vc.evaluation.annotated_area import AnnotatedArea
 from vc.evaluation.metrics import IOU_THRESHOLD, Evaluation, ImageResult, evaluate
@@ -282,8 +282,7 @@ def analyse_misses(images: Sequence[ImageResult], frames: Sequence[int],
         matched_detections = set(matched_truth.values())
         found = np.isin(np.arange(len(truth)), list(matched_truth))
         iou = box_iou(truth, boxes)  # (people, detections)
-        feet = np.column_stack([(truth[:, 0] + truth[:, 2]) / 2, truth[:, 3]])
-        regions = region_of(feet) if region_of is not None and len(truth) else [None] * len(truth)
+        regions = region_of(foot_points(truth)) if region_of is not None and len(truth) else [None] * len(truth)
         in_group = grouped(truth)
         ignored = image.ignored()
         annotated = annotated_area.contains(boxes) if annotated_area is not None else np.ones(len(boxes), bool)
