@@ -30,6 +30,8 @@ network, 1 800 steps, per-region models, fp32) with one knob changed (:data:`KNO
   faster trainer;
 - ``groups_sep``: the ``groups`` knob again on ``fast-sep`` with the faster trainer: people alone (the
   ``separable`` knob's "on" runs) against a group rate of 0.3, seeds 0, 1 and 2 (renders shared);
+- ``stem``: ``fast-sep``'s stem (a 5x5 at half resolution, then a strided 3x3) against one 4x4 convolution over
+  non-overlapping patches (``fast-patch``), both with the groups of ``groups_sep``, seeds 0, 1 and 2;
 - ``compute``: the trainer in fp32 (the standard compile) or in bfloat16 autocast with channels-last activations
   (``TRAINING_COMPUTE``; about twice the images per second where the CPU has bf16 instructions), with training
   seeds 0, 1 and 2: whether the faster compile holds accuracy.
@@ -176,6 +178,11 @@ KNOBS: dict[str, dict[str, Point]] = {
     "groups_sep": {f"{'rate 0.3' if grouped else 'alone'}, seed {seed}": replace(
         BASE, compute="bf16 channels-last", train_seed=seed, arch="fast-sep", group_rate=0.3 if grouped else 0.0)
         for grouped in (False, True) for seed in (0, 1, 2)},
+    # the default network's stem (5x5 at half resolution, strided 3x3) against 4x4 patches (arch fast-patch), both
+    # with people in groups as the PETS09 scene places them: "conv" are the groups_sep knob's "rate 0.3" runs
+    "stem": {f"{stem}, seed {seed}": replace(BASE, compute="bf16 channels-last", train_seed=seed, group_rate=0.3,
+                                             arch="fast-sep" if stem == "conv" else "fast-patch")
+             for stem in ("conv", "patch") for seed in (0, 1, 2)},
 }
 
 

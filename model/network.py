@@ -1,9 +1,10 @@
 """ScenePoseNet: the fully convolutional detector, pose estimator and segmenter of the paper (DESIGN.md, "Model").
 
-A 5x5 stem convolution (strided in the CPU presets), 3x3 residual units, then spatial-belief (SB) units: each
-refines the features with a residual path of large-kernel convolutions, so that one pixel sees a whole person,
-and emits belief maps through a 1x1 path; the next unit sees those beliefs next to the features. The belief maps
-of all SB units are concatenated (skip connections) and two 1x1 convolutions turn them into the heat maps.
+A 5x5 stem convolution (strided in the CPU presets; or one convolution over non-overlapping patches), 3x3 residual
+units, then spatial-belief (SB) units: each refines the features with a residual path of large-kernel convolutions,
+so that one pixel sees a whole person, and emits belief maps through a 1x1 path; the next unit sees those beliefs
+next to the features. The belief maps of all SB units are concatenated (skip connections) and two 1x1 convolutions
+turn them into the heat maps.
 
 Only convolutions, batch norm, ReLU, addition and concatenation: every op exports to ONNX (opset 17) and runs
 deterministically on the CPU.
@@ -110,7 +111,12 @@ class SpatialBeliefUnit(nn.Module):
 
 def _stem(config: NetworkConfig) -> nn.Sequential:
     """The paper's 5x5 convolution; stride 2 makes it downsample, and stride 4 adds a strided 3x3 after it
-    rather than one 5x5 with stride 4, which would skip input pixels."""
+    rather than one 5x5 with stride 4, which would skip input pixels. A "patch" stem is one convolution over
+    non-overlapping stride x stride patches (:data:`vc.model.config.STEMS` says why)."""
+    if config.stem == "patch":
+        stride = config.stem_stride
+        return nn.Sequential(nn.Conv2d(3, config.width, stride, stride, bias=False), nn.BatchNorm2d(config.width),
+                             nn.ReLU(inplace=True))
     if config.stem_stride == 4:
         return nn.Sequential(_conv_bn_relu(3, config.width, 5, stride=2),
                              _conv_bn_relu(config.width, config.width, 3, stride=2))
@@ -119,7 +125,8 @@ def _stem(config: NetworkConfig) -> nn.Sequential:
 
 class ScenePoseNet(nn.Module):
     """Image (B, 3, H, W) in [0, 1] -> heat maps (B, C, ceil(H/s), ceil(W/s)) for the stem stride s and the
-    config's ``heatmap_channels`` C (the layout of :mod:`vc.deploy.heatmaps`).
+    config's ``heatmap_channels`` C (the layout of :mod:`vc.deploy.heatmaps`); a patch stem drops a last partial
+    patch (floor), which never happens to inputs the codec accepts (multiples of s).
 
     ``forward`` returns ``{"heatmaps": ..., "beliefs": [...]}``. ``beliefs`` holds each SB unit's belief maps when
     the config asks for intermediate supervision and is empty otherwise, so a loss can always iterate over it.

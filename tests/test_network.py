@@ -57,6 +57,22 @@ def test_stem_strides_keep_exact_sizes_for_multiples_of_16(stride, factoring):
     assert tuple(odd) == (math.ceil(50 / stride), math.ceil(70 / stride))
 
 
+@pytest.mark.parametrize("stride", [2, 4])
+def test_patch_stems_give_heatmaps_at_their_stride_from_every_input_pixel(stride):
+    net = _net(replace(TINY, stem_stride=stride, stem="patch")).eval()
+    with torch.no_grad():
+        assert net(torch.rand(1, 3, 64, 128))["heatmaps"].shape == (1, HEATMAP_CHANNELS, 64 // stride, 128 // stride)
+    patchify = net.stem[0]
+    assert (patchify.kernel_size, patchify.stride) == ((stride, stride), (stride, stride))  # no pixel skipped or
+    # read twice
+
+
+def test_the_patch_preset_is_the_default_but_for_its_stem():
+    default, patch = network_config(DEFAULT_ARCH), network_config("fast-patch")
+    assert replace(patch, name=default.name, stem=default.stem) == default
+    assert ScenePoseNet(patch).receptive_field() < ScenePoseNet(default).receptive_field()
+
+
 def _positive_weights(net: ScenePoseNet) -> None:
     """Make every weight positive and every BN the identity: with a positive input every ReLU passes and every
     path adds a positive term, so the gradient is nonzero exactly on the receptive field (no chance zeros)."""
@@ -80,10 +96,11 @@ def _measured_receptive_field(net: ScenePoseNet, size: int) -> tuple[int, int]:
     return int(rows.max() - rows.min() + 1), int(cols.max() - cols.min() + 1)
 
 
-@pytest.mark.parametrize(("stride", "factoring"), [(1, "dense"), (2, "depthwise"), (4, "dense"), (4, "depthwise"),
-                                                   (2, "separable"), (4, "separable")])
-def test_receptive_field_matches_the_gradient_footprint(stride, factoring):
-    net = _net(replace(TINY, stem_stride=stride, **FACTORINGS[factoring])).double().eval()
+@pytest.mark.parametrize(("stride", "factoring", "stem"), [
+    (1, "dense", "conv"), (2, "depthwise", "conv"), (4, "dense", "conv"), (4, "depthwise", "conv"),
+    (2, "separable", "conv"), (4, "separable", "conv"), (4, "separable", "patch"), (2, "dense", "patch")])
+def test_receptive_field_matches_the_gradient_footprint(stride, factoring, stem):
+    net = _net(replace(TINY, stem_stride=stride, stem=stem, **FACTORINGS[factoring])).double().eval()
     _positive_weights(net)
     field = net.receptive_field()
     assert _measured_receptive_field(net, size=2 * field + 16) == (field, field)
@@ -187,6 +204,12 @@ def test_config_rejects_bad_fields_and_values():
         replace(TINY, stem_stride=3)
     with pytest.raises(ValueError, match="odd"):
         replace(TINY, sb_kernel=8)
+    with pytest.raises(ValueError, match="patch stem needs stem_stride 2 or 4"):
+        replace(TINY, stem_stride=1, stem="patch")
+    with pytest.raises(ValueError, match="stem must be one of"):
+        replace(TINY, stem="pixel-shuffle")
+    predates_stem = {key: value for key, value in data.items() if key != "stem"}
+    assert NetworkConfig.from_dict(predates_stem).stem == "conv"  # the stem every network had before the field
     with pytest.raises(ValueError, match=f"belief_channels must be {HEATMAP_CHANNELS}"):
         replace(TINY, intermediate_supervision=True)
     with pytest.raises(ValueError, match="heatmap_channels must be"):
