@@ -23,7 +23,7 @@ from vc.model.train import RegionResult
 from vc.scenes.loader import load_scene
 from vc.scenes.regions import plan_regions
 from vc.stages.config import CONFIG_FILE, CompileConfig, write_config
-from vc.stages.executors import Executor, InProcess
+from vc.stages.executors import Executor, InProcess, LocalProcesses
 from vc.stages.export import ExportResult, export
 from vc.stages.render import RenderJob, prepare_render
 from vc.stages.train import TrainingJob, prepare_training
@@ -156,13 +156,13 @@ def compile_scenes(scene_paths: list[Path], root: Path, config: CompileConfig, e
                    ) -> dict[Path, dict]:
     """Compile many scenes into ``root/<scene name>``. On a cluster each scene's stages run in a thread of their
     own (``in_flight`` at a time), so that the shards and regions of those scenes are in flight together; in this
-    process they compile in turn (one renderer at a time). Returns each scene's compile record; ``on_done`` hears
-    of each as it finishes."""
+    process, or in this machine's worker processes (one pool of them), they compile in turn. Returns each scene's
+    compile record; ``on_done`` hears of each as it finishes."""
     from concurrent.futures import ThreadPoolExecutor, as_completed
 
     outputs = scene_outputs(scene_paths, root)
     records: dict[Path, dict] = {}
-    at_once = 1 if isinstance(executor, InProcess) else min(len(outputs), in_flight)
+    at_once = 1 if isinstance(executor, InProcess | LocalProcesses) else min(len(outputs), in_flight)
     with ThreadPoolExecutor(max_workers=at_once) as threads:
         futures = {threads.submit(compile_scene, path, output, config, False, None, executor): path
                    for path, output in outputs.items()}

@@ -1,4 +1,5 @@
-"""Where a compile's units of work run: in this process (the default), or fanned out over a Ray cluster.
+"""Where a compile's units of work run: in this process (the default), in worker processes of this machine, or
+fanned out over a Ray cluster.
 
 A compile has two kinds of unit that are independent of each other:
 
@@ -10,6 +11,12 @@ A compile has two kinds of unit that are independent of each other:
   the last checkpoint.
 
 Export and the self-test are seconds and stay with the caller.
+
+Worker processes of this machine (:class:`LocalProcesses`, the standard library's process pool) are for a host
+that one process cannot keep busy: a sample's renderer is first a Python trace and kernel launches (about 17 ms
+however few its rays, compile.md), so on a GPU, or on many cores, several renderers at once go faster than one.
+They need nothing installed; a worker that dies fails the stage, and running the compile again resumes from the
+shards already written.
 
 Ray (https://docs.ray.io) is the distributed engine: an optional extra (``pip install 'visual-compiler[ray]'``),
 imported only when ``--executor ray`` asks for it. Its tasks are retried when their worker process or node dies
@@ -29,6 +36,7 @@ from functools import cache
 from pathlib import Path
 from typing import Any, Protocol
 
+from vc.cores import usable_cores
 from vc.errors import InputError
 
 #: Environment variables a worker needs to run a stage as this process would (Mitsuba's LLVM backend).
@@ -55,6 +63,39 @@ class InProcess:
                       ) -> Iterator[tuple[int, Any]]:
         for index, item in enumerate(items):
             yield index, function(item)
+
+
+@dataclass
+class LocalProcesses:
+    """Items in up to ``processes`` worker processes of this machine, a task of ``cpus`` CPUs taking that many of
+    them. Spawned, not forked: each worker starts its own renderer and GPU context, which a fork of a process that
+    has one cannot. One pool per call, so that a worker's cached renderers serve every shard of that call."""
+
+    processes: int
+    name: str = "processes"
+
+    def __post_init__(self) -> None:
+        if self.processes < 1:
+            raise InputError(None, "--processes", f"must be at least 1, got {self.processes}")
+
+    def map_unordered(self, function: Callable[[Any], Any], items: Sequence[Any], cpus: float = 1.0
+                      ) -> Iterator[tuple[int, Any]]:
+        import multiprocessing
+        from concurrent.futures import ProcessPoolExecutor, as_completed
+
+        at_once = max(1, min(len(items), int(self.processes // max(cpus, 1.0))))
+        threads = max(1, usable_cores() // at_once)
+        with ProcessPoolExecutor(at_once, mp_context=multiprocessing.get_context("spawn"),
+                                 initializer=_use_threads, initargs=(threads,)) as pool:
+            futures = {pool.submit(function, item): index for index, item in enumerate(items)}
+            for future in as_completed(futures):
+                yield futures[future], future.result()
+
+
+def _use_threads(count: int) -> None:
+    """A worker's share of the cores: read by torch and onnxruntime when the task imports them (and by
+    :func:`vc.cores.usable_cores`), as Ray sets it for a task of that many CPUs."""
+    os.environ["OMP_NUM_THREADS"] = str(count)
 
 
 @dataclass
@@ -94,15 +135,24 @@ class RayExecutor:
         self._ray.shutdown()
 
 
-def make_executor(name: str, address: str | None = None) -> Executor:
-    """The executor a command line names: ``in-process`` or ``ray`` (``address``: a cluster to join)."""
+#: The executors a command line can name.
+EXECUTORS = ("in-process", "processes", "ray")
+
+
+def make_executor(name: str, address: str | None = None, processes: int | None = None) -> Executor:
+    """The executor a command line names: ``in-process``, ``processes`` (``processes`` workers, every usable core
+    when None) or ``ray`` (``address``: a cluster to join)."""
+    if address is not None and name != "ray":
+        raise InputError(None, "--address", "only with --executor ray")
+    if processes is not None and name != "processes":
+        raise InputError(None, "--processes", "only with --executor processes")
     if name == "in-process":
-        if address is not None:
-            raise InputError(None, "--address", "only with --executor ray")
         return InProcess()
+    if name == "processes":
+        return LocalProcesses(processes if processes is not None else usable_cores())
     if name == "ray":
         return RayExecutor(address)
-    raise InputError(None, "--executor", f"unknown executor {name!r} (in-process or ray)")
+    raise InputError(None, "--executor", f"unknown executor {name!r} ({', '.join(EXECUTORS)})")
 
 
 # --- the units of work: module-level functions of picklable arguments, so that any worker can run them ---------

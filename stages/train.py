@@ -15,7 +15,7 @@ from vc.io import write_json
 from vc.model.train import RegionResult, TrainConfig, data_workers, select_device
 from vc.render.dataset import read_manifest
 from vc.stages.config import TrainSettings
-from vc.stages.executors import Executor, InProcess, RegionTask, train_region
+from vc.stages.executors import Executor, InProcess, LocalProcesses, RegionTask, train_region
 
 METRICS = "metrics.json"
 
@@ -33,8 +33,9 @@ class TrainingJob:
         """Train (or resume) every region, evaluate each on its held-out renders, and write ``RUN/metrics.json``
         (regions trained into ``run`` before stay in it) and ``RUN/precision_recall.png``. ``executor``: where
         the regions train (in turn in this process, with progress bars, by default; as parallel tasks on a
-        cluster, silently)."""
-        executor = executor or InProcess()
+        cluster, silently). Worker processes of this machine train in turn here too: one training already takes
+        the machine (every core, its data loaders, the GPU), which one renderer does not."""
+        executor = InProcess() if executor is None or isinstance(executor, LocalProcesses) else executor
         here = isinstance(executor, InProcess)
         tasks = [RegionTask(self.dataset, name, self.config, run, self.workers, show_progress and here)
                  for name in self.regions]

@@ -161,6 +161,19 @@ def _processes_running(task_name: str) -> list[int]:
     return pids
 
 
+def test_worker_processes_render_the_same_dataset(compiled, toy_config, tmp_path):
+    """Two spawned worker processes of this machine render the demo's shards at the toy budget: the dataset is
+    byte for byte the in-process compile's (shards are pure functions of the scene, region, index and seed)."""
+    from vc.stages.executors import LocalProcesses
+    from vc.stages.render import prepare_render
+
+    _, reference = compiled
+    job = prepare_render(Path("scenes/demo/scene.yaml"), read_config(toy_config).render)
+    summary = job.run(tmp_path / "renders", show_progress=False, executor=LocalProcesses(2))
+    assert summary["executor"] == "processes"
+    assert _digests(tmp_path / "renders", "shard-*/*") == _digests(reference / "renders", "shard-*/*")
+
+
 def test_a_ray_cluster_compiles_the_same_dataset_though_a_worker_dies_mid_shard(compiled, toy_config, tmp_path):
     """A local Ray cluster of two worker processes compiles the demo at the toy budget while a worker rendering
     a shard is killed (SIGKILL, once its shard is half-written): Ray re-runs the shard, and the dataset is byte for

@@ -1,16 +1,17 @@
-"""Where a compile's work runs: the in-process executor, and a command line that asks for a cluster wrongly or
-for two scenes of one name gets one line and exit status 2 before anything is written (the Ray cluster itself is
-tested end to end in tests/test_compile.py)."""
+"""Where a compile's work runs: the in-process executor, worker processes of this machine, and a command line
+that asks for a cluster wrongly or for two scenes of one name gets one line and exit status 2 before anything is
+written (the Ray cluster and the processes' renders are tested end to end in tests/test_compile.py)."""
 
 from __future__ import annotations
 
+import math
 import shutil
 
 import pytest
 
 from vc.cli import compile as compile_cli
 from vc.errors import InputError
-from vc.stages.executors import InProcess, make_executor
+from vc.stages.executors import InProcess, LocalProcesses, make_executor
 
 
 def test_in_process_runs_every_item_once_in_order():
@@ -19,9 +20,25 @@ def test_in_process_runs_every_item_once_in_order():
     assert results == [(0, 6), (1, 2), (2, 4)] and seen == [3, 1, 2]
 
 
+def test_worker_processes_run_every_item_once():
+    results = dict(LocalProcesses(2).map_unordered(math.factorial, [5, 3, 4, 0]))
+    assert results == {0: 120, 1: 6, 2: 24, 3: 1}
+    assert dict(LocalProcesses(3).map_unordered(math.factorial, [6], cpus=8)) == {0: 720}  # larger than the pool
+
+
 def test_an_address_needs_the_ray_executor():
     with pytest.raises(InputError, match="only with --executor ray"):
         make_executor("in-process", "auto")
+    with pytest.raises(InputError, match="only with --executor ray"):
+        make_executor("processes", "auto")
+
+
+def test_a_process_count_needs_the_processes_executor_and_one_process_at_least():
+    with pytest.raises(InputError, match="only with --executor processes"):
+        make_executor("in-process", processes=4)
+    with pytest.raises(InputError, match="at least 1"):
+        make_executor("processes", processes=0)
+    assert make_executor("processes", processes=3) == LocalProcesses(3)
 
 
 def test_scenes_compiled_together_need_their_own_names(tmp_path, capsys):

@@ -6,7 +6,8 @@
 # its missing dependencies as one pruned site-packages archive, anny's model cache (built here, so that anny's
 # warp kernels, a 150 MB wheel, are not needed there), and the scene with its background and video.
 # Resumable: the compile keeps its finished stages in out/gpu_pets09 (ignored; kept while the machine stays warm),
-# so a call cut at its time limit is continued by running this again at once.
+# so a call cut at its time limit is continued by running this again at once. Arguments go to vc-compile (e.g.
+# `--executor processes --processes 12`: the render shards in 12 worker processes sharing the GPU).
 set -uo pipefail
 export PYTHONUNBUFFERED=1
 root=$PWD
@@ -25,7 +26,7 @@ start=$(date +%s)
 # stopped before the call's limit (SIGINT: the compile keeps what it finished), so that the lines below still run
 timeout -s INT "${LIMIT_S:-530}" python3 -c \
     "import sys; from vc.cli.compile import main; sys.argv[0] = 'vc-compile'; sys.exit(main())" \
-    pets09.yaml -o "$out" --budget standard --seed 0 2>&1 \
+    pets09.yaml -o "$out" --budget standard --seed 0 "$@" 2>&1 \
     | tee -a "$OUT/compile.log" | tr '\r' '\n' | grep -v -E "^\s*$|it/s\]|step/s\]|sample/s\]|s/it\]"
 echo "this call: $(( $(date +%s) - start )) s"
 cp "$out"/compile.json "$OUT"/ 2>/dev/null

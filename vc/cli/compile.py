@@ -1,7 +1,8 @@
 """``vc-compile``: a scene description in, a tested ONNX bundle out — every stage in one command.
 
     vc-compile SCENE [SCENE ...] -o OUT [--budget quick|standard|full | --config FILE]
-               [--set section.field=value ...] [--seed K] [--executor in-process|ray [--address ADDR]] [--quiet]
+               [--set section.field=value ...] [--seed K] [--quiet]
+               [--executor in-process | processes [--processes N] | ray [--address ADDR]]
 
 Stages: check (validate the scene, plan its regions) -> render (``OUT/renders``) -> train (``OUT/run``) -> export
 (``OUT/bundle``, precision ``auto``: int8 where it holds on held-out renders) -> self-test (the bundle through the
@@ -15,7 +16,9 @@ status 2.
 
 Several scenes compile into ``OUT/<scene name>`` each. ``--executor ray`` fans the render shards and the regions'
 training out over a Ray cluster (``--address``: one to join; without it a local one on this machine), every
-scene at once; the datasets are byte-identical to an in-process compile's (:mod:`vc.stages.executors`).
+scene at once; ``--executor processes`` does the same in worker processes of this machine, for a GPU or many
+cores that one renderer cannot keep busy. The datasets are byte-identical to an in-process compile's
+(:mod:`vc.stages.executors`).
 """
 
 from __future__ import annotations
@@ -31,7 +34,7 @@ from vc.cli.common import handles_input_errors, non_negative_int, positive_int
 from vc.model.train import RegionResult
 from vc.stages.compile import SCENES_IN_FLIGHT, Reporter, compile_scene, compile_scenes, scene_outputs
 from vc.stages.config import DEFAULT_PRESET, PRESETS, CompileConfig, read_config, with_overrides
-from vc.stages.executors import make_executor
+from vc.stages.executors import EXECUTORS, make_executor
 from vc.stages.export import ExportResult
 from vc.stages.render import RenderJob
 from vc.stages.train import TrainingJob
@@ -50,8 +53,10 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--set", action="append", default=[], metavar="SECTION.FIELD=VALUE",
                         help="change one field of the config, e.g. train.steps=400 (repeatable)")
     parser.add_argument("--seed", type=non_negative_int, help="seed of the renders and the training")
-    parser.add_argument("--executor", choices=["in-process", "ray"], default="in-process",
+    parser.add_argument("--executor", choices=list(EXECUTORS), default="in-process",
                         help="where render shards and regions' training run (default: this process)")
+    parser.add_argument("--processes", type=positive_int, default=None,
+                        help="worker processes of --executor processes (default: one per usable core)")
     parser.add_argument("--address", default=None, help="the Ray cluster to join (auto, HOST:PORT, ray://HOST:PORT); "
                                                         "default: start a local one")
     parser.add_argument("--scenes-at-once", type=positive_int, default=SCENES_IN_FLIGHT,
@@ -117,7 +122,7 @@ def _summary(state: dict, out: Path) -> str:
 @handles_input_errors
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
-    config, executor = config_from(args), make_executor(args.executor, args.address)
+    config, executor = config_from(args), make_executor(args.executor, args.address, args.processes)
     if len(args.scene) == 1:
         state = compile_scene(args.scene[0], args.output, config, show_progress=not args.quiet, reporter=_Printer(),
                               executor=executor)
