@@ -140,7 +140,10 @@ def summarise(request: RenderRequest, counts: dict, rendered: dict, skipped: int
         "skipped_shards": skipped,
         "dataset": counts,
         "seconds": round(seconds, 2),
-        "samples_per_second": round(sample_count / timings["shard_total"], 2) if sample_count else None,
+        # what the run delivered, wall clock; and one renderer's own rate (equal in this process, lower per worker
+        # where several share a machine)
+        "samples_per_second": round(sample_count / seconds, 2) if sample_count and seconds > 0 else None,
+        "samples_per_renderer_second": round(sample_count / timings["shard_total"], 2) if sample_count else None,
         "stage_seconds": stage_seconds,
         "plan_seconds": round(request.plan.seconds, 2),
         "lighting": request.plan.lighting.to_dict(),

@@ -60,7 +60,8 @@ def report_job(job: RenderJob) -> None:
 def report_summary(summary: dict, output: Path) -> None:
     for name, counts in summary["dataset"].items():
         now = summary["rendered_now"].get(name)
-        made = f"{now['samples']} rendered now in {now['seconds']:.1f} s" if now else "already complete"
+        spent = "renderer-seconds" if summary.get("executor") else "s"  # summed over the workers
+        made = f"{now['samples']} rendered now in {now['seconds']:.1f} {spent}" if now else "already complete"
         print(f"  {name:<6} {counts['samples']} samples, {counts['people']} people  ({made})")
     rate = summary["samples_per_second"]
     print(f"done   {summary['seconds']:.1f} s" + (f", {rate:.1f} samples/s" if rate else "")
