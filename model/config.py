@@ -25,8 +25,7 @@ STEM_STRIDES = (1, 2, 4)
 #: How the stem downsamples: "conv", the paper's 5x5 (strided, and a strided 3x3 after it for stride 4); "patch",
 #: one convolution with kernel = stride over non-overlapping patches (the "patchify" stem of ConvNeXt, Liu et al.,
 #: 2022). On a CPU the 5x5 over three input channels at half resolution is the slowest layer per multiply-add
-#: (im2col over a thin, wide tensor): a quarter of the int8 time of PETS09's largest region for a fifth of its
-#: multiply-adds. Patches read every input pixel once at the output resolution, 12x fewer multiply-adds.
+#: (im2col over a thin, wide tensor); patches read every input pixel once, at the output resolution.
 STEMS = ("conv", "patch")
 
 
@@ -115,7 +114,8 @@ PRESETS: dict[str, NetworkConfig] = {
     "fast-sep": NetworkConfig("fast-sep", stem_stride=4, width=32, residual_units=2, sb_kernel=13, sb_reduction=2,
                               sb_depthwise=False, sb_separable=True, intermediate_supervision=True),
     # "fast-sep" with a patch stem (STEMS): a 4x4, stride 4 convolution in place of the 5x5 at half resolution and
-    # the strided 3x3 after it; 0.64x the int8 network time of fast-sep over PETS09's regions (random weights).
+    # the strided 3x3 after it. 0.82x fast-sep's int8 network time over PETS09's three regions (one thread), and
+    # lower real AP50 in every seed (benchmarks/results/stem_pets09.md): a faster point, not the default.
     "fast-patch": NetworkConfig("fast-patch", stem_stride=4, width=32, residual_units=2, sb_kernel=13,
                                 sb_reduction=2, sb_depthwise=False, sb_separable=True, intermediate_supervision=True,
                                 stem="patch"),
