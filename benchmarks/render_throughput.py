@@ -3,6 +3,7 @@
     python benchmarks/render_throughput.py [--scene scenes/pets09_s2l1/scene.yaml] [--spp 4 16 64]
                                            [--samples 40] [--warmup 5] [--out benchmarks/results]
     python benchmarks/render_throughput.py --photometry [--scene ...] [--samples 40] [--out DIR]
+    python benchmarks/render_throughput.py --processes 12 [--scene ...] [--samples 400] [--out DIR]
 
 Each sample is what ``vc-render`` writes: people sampled and posed, rendered, composited, labelled, and the
 image and mask PNGs and the shard's annotations written by the dataset writer (to a temporary folder). One
@@ -15,6 +16,12 @@ throughput may fall by no more than what the matched plan's effects cost: the ru
 difference per sample, and the effects' own time per sample (the samples' ``effect.*`` timings and the plan's
 estimate) to ``render_throughput_photometry.json`` and ``.md``, with the machine's CPU model, since rates from
 different machines do not compare.
+
+``--processes N [N ...]`` times the whole render stage instead (every region, ``--samples`` each at 16 spp, shards
+of :data:`PROCESS_SHARD` samples), wall clock, in this process and then with ``vc-compile --executor processes``'s
+``N`` worker processes, in turn in one run: what several renderers at once deliver on this machine, as a ratio to
+one. Worker start-up (imports, the body model, each region's scene) counts, as it does in a compile. Writes
+``render_throughput_processes.json`` and ``.md``.
 """
 
 from __future__ import annotations
@@ -114,6 +121,47 @@ def compare_photometry(scene: Scene, bodies: BodyModel, samples: int, warmup: in
     return rows
 
 
+#: Samples per shard in ``--processes`` runs: small enough that every worker gets several.
+PROCESS_SHARD = 20
+
+
+def compare_processes(scene_path: Path, counts: list[int], samples: int, scratch: Path) -> list[dict]:
+    """The render stage in this process, then in each count of worker processes: wall seconds and samples/s."""
+    from vc.stages.config import RenderSettings
+    from vc.stages.executors import InProcess, LocalProcesses
+    from vc.stages.render import prepare_render
+
+    job = prepare_render(scene_path, RenderSettings(samples=samples, shard_size=PROCESS_SHARD))
+    total = samples * len(job.regions)
+    rows = []
+    for executor in [InProcess(), *(LocalProcesses(count) for count in counts)]:
+        output = scratch / executor.name / str(getattr(executor, "processes", 1))
+        start = time.perf_counter()
+        job.run(output, show_progress=False, executor=executor)
+        seconds = time.perf_counter() - start
+        rows.append({"executor": executor.name, "processes": getattr(executor, "processes", 1),
+                     "samples": total, "seconds": round(seconds, 1), "samples_per_second": round(total / seconds, 2)})
+        rows[-1]["ratio_to_one_process"] = round(rows[-1]["samples_per_second"] / rows[0]["samples_per_second"], 2)
+        print(json.dumps(rows[-1]), flush=True)
+    return rows
+
+
+def _write_processes(rows: list[dict], scene_path: Path, out: Path) -> None:
+    from vc.render.mitsuba_setup import mitsuba
+
+    variant = mitsuba().variant()
+    write_json(out / "render_throughput_processes.json", {"scene": str(scene_path), "machine": cpu_model(),
+                                                          "mitsuba_variant": variant, "shard_size": PROCESS_SHARD,
+                                                          "rows": rows})
+    lines = [f"Render stage of {scene_path}, 16 spp, {rows[0]['samples']} samples over its regions, on {cpu_model()} "
+             f"with Mitsuba `{variant}` (`python benchmarks/render_throughput.py --processes ...`).", "",
+             "| renderers | seconds | samples/s | against one process |", "|---|---|---|---|"]
+    lines += [f"| {r['processes']} ({r['executor']}) | {r['seconds']} | {r['samples_per_second']} | "
+              f"{r['ratio_to_one_process']}x |" for r in rows]
+    (out / "render_throughput_processes.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
 def _write_photometry(rows: list[dict], out: Path) -> None:
     write_json(out / "render_throughput_photometry.json", {"cpu": cpu_model(), "spp": REFERENCE_SPP, "rows": rows})
     lines = [f"Render throughput with photometric matching off and matched, {REFERENCE_SPP} spp, one run on "
@@ -160,8 +208,16 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
     parser.add_argument("--photometry", action="store_true",
                         help="compare photometric matching off and matched at the reference spp instead")
+    parser.add_argument("--processes", type=int, nargs="+", metavar="N",
+                        help="time the render stage in this process and in N worker processes instead")
     args = parser.parse_args()
 
+    if args.processes:
+        args.out.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryDirectory(prefix="vc-render-processes-") as scratch:
+            rows = compare_processes(args.scene, args.processes, args.samples, Path(scratch))
+        _write_processes(rows, args.scene, args.out)
+        return
     scene = load_scene(args.scene)
     start = time.perf_counter()
     bodies = BodyModel()
