@@ -9,14 +9,8 @@
 # so a call cut at its time limit is continued by running this again at once. Arguments go to vc-compile (e.g.
 # `--executor processes --processes 12`: the render shards in 12 worker processes sharing the GPU).
 set -uo pipefail
-export PYTHONUNBUFFERED=1
 root=$PWD
-site=/tmp/vc-site
-if [ ! -f "$site/vc/__init__.py" ]; then
-    mkdir -p "$site" /tmp/anny-cache
-    tar -xJf .gpu/site.tar.xz -C "$site" && tar -xJf .gpu/anny_cache.tar.xz -C /tmp/anny-cache || exit 1
-fi
-export PYTHONPATH=$site ANNY_CACHE_DIR=/tmp/anny-cache
+source "$(dirname "$0")/gpu_site.sh"
 nvidia-smi --query-gpu=name,memory.total,driver_version --format=csv,noheader
 echo "cpus: $(nproc)"; ls /usr/local/nvidia/lib64 2>/dev/null | grep -i -E "optix|libcuda.so" | head -3
 cd .gpu  # the checkout's own vc/ would shadow the installed package

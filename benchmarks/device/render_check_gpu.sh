@@ -6,13 +6,7 @@
 # the OptiX fault of 2026-11-26 (compile_gpu_pets09.md) put 1.4-1.6 % of r0/r1 pixels more than 2 levels off.
 # Needs .gpu/ (pack_gpu.sh) carried. Writes $OUT/renders.tar (the samples) and $OUT/render.log.
 set -uo pipefail
-export PYTHONUNBUFFERED=1
-site=/tmp/vc-site
-if [ ! -f "$site/vc/__init__.py" ]; then
-    mkdir -p "$site" /tmp/anny-cache
-    tar -xJf .gpu/site.tar.xz -C "$site" && tar -xJf .gpu/anny_cache.tar.xz -C /tmp/anny-cache || exit 1
-fi
-export PYTHONPATH=$site ANNY_CACHE_DIR=/tmp/anny-cache
+source "$(dirname "$0")/gpu_site.sh"
 cd .gpu  # the checkout's own vc/ would shadow the installed package
 rm -rf /tmp/gpu-renders
 python3 -c "import sys; from vc.cli.render import main; sys.argv[0] = 'vc-render'; sys.exit(main())" \

@@ -5,14 +5,8 @@
 # Needs .gpu/ (pack_gpu.sh) carried. Arguments go to render_throughput.py (default: --processes 12 --samples 400).
 # Writes $OUT/render_throughput_processes.json and .md.
 set -uo pipefail
-export PYTHONUNBUFFERED=1
 root=$PWD
-site=/tmp/vc-site
-if [ ! -f "$site/vc/__init__.py" ]; then
-    mkdir -p "$site" /tmp/anny-cache
-    tar -xJf .gpu/site.tar.xz -C "$site" && tar -xJf .gpu/anny_cache.tar.xz -C /tmp/anny-cache || exit 1
-fi
-export PYTHONPATH=$site ANNY_CACHE_DIR=/tmp/anny-cache
+source "$(dirname "$0")/gpu_site.sh"
 nvidia-smi --query-gpu=name,memory.total,driver_version --format=csv,noheader
 echo "cpus: $(nproc)"
 cd .gpu  # the checkout's own vc/ would shadow the installed package
