@@ -241,6 +241,8 @@ def test_other_settings_in_the_same_folder_are_refused(rendered_dataset, capsys)
     (["--samples", "3", "--regions", "nowhere"], "unknown region nowhere"),
     (["--samples", "0"], "must be at least 1"),
     (["--samples", "2", "--spp", "-1"], "must be at least 1"),
+    (["--samples", "2", "--processes", "0"], "must be at least 1"),
+    (["--preview", "--processes", "2"], "a preview renders in this process"),
 ])
 def test_bad_arguments_exit_with_status_2(tmp_path, capsys, arguments, message) -> None:
     try:

@@ -1,13 +1,15 @@
 """``vc-render``: synthetic people rendered into a scene's regions, with exact labels.
 
     vc-render SCENE -o OUT --samples N [--regions R ...] [--spp S] [--seed K] [--shard-size M] [--max-people P]
-              [--quiet]
+              [--processes W] [--quiet]
     vc-render SCENE --preview -o sheet.png [--samples N] [--regions R ...] [--spp S] [--seed K]
 
 The dataset goes to ``OUT/<region>/shard-NNNNN/`` with ``OUT/manifest.json`` and ``OUT/render_summary.json``
 (see :mod:`vc.render.dataset`). Re-running the same command completes missing shards and never rewrites a
-finished one. ``--preview`` renders a few samples (the same ones the dataset would hold) into a contact sheet
-with boxes, skeletons and masks drawn. Bad input prints one ``error:`` line and exits with status 2.
+finished one. ``--processes W`` renders the shards in W worker processes of this machine (for a GPU or many
+cores; the same bytes, see :mod:`vc.stages.executors`). ``--preview`` renders a few samples (the same ones the
+dataset would hold) into a contact sheet with boxes, skeletons and masks drawn. Bad input prints one ``error:``
+line and exits with status 2.
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ from vc.errors import InputError
 from vc.render.job import DEFAULT_SHARD_SIZE
 from vc.render.synthesis import SynthesisSettings
 from vc.stages.config import RenderSettings
+from vc.stages.executors import LocalProcesses
 from vc.stages.render import RenderJob, describe_plan, prepare_render
 
 PREVIEW_SAMPLES = 9
@@ -43,6 +46,8 @@ def _parser() -> argparse.ArgumentParser:
                         help=f"samples per shard (default {DEFAULT_SHARD_SIZE})")
     parser.add_argument("--max-people", type=non_negative_int,
                         help="most people per sample (default: from each region's ground area, 2 to 6)")
+    parser.add_argument("--processes", type=positive_int, metavar="W",
+                        help="render the shards in W worker processes (default: in this process)")
     parser.add_argument("--preview", action="store_true", help="write a contact sheet instead of a dataset")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     return parser
@@ -73,6 +78,8 @@ def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     if args.samples is None and not args.preview:
         raise InputError(args.output, "--samples", "how many samples per region? (--samples N, N >= 1)")
+    if args.preview and args.processes:
+        raise InputError(args.output, "--processes", "a preview renders in this process; drop --processes")
     samples = args.samples or PREVIEW_SAMPLES
     settings = RenderSettings(samples=samples, spp=args.spp, seed=args.seed, max_people=args.max_people,
                               shard_size=args.shard_size)
@@ -82,7 +89,8 @@ def main(argv: list[str] | None = None) -> int:
         job.preview(args.output, samples)
         print(f"preview  {samples} samples of {len(job.regions)} regions -> {args.output}")
         return 0
-    report_summary(job.run(args.output, show_progress=not args.quiet), args.output)
+    executor = LocalProcesses(args.processes) if args.processes else None
+    report_summary(job.run(args.output, show_progress=not args.quiet, executor=executor), args.output)
     return 0
 
 
