@@ -16,9 +16,9 @@ status 2.
 
 Several scenes compile into ``OUT/<scene name>`` each. ``--executor ray`` fans the render shards and the regions'
 training out over a Ray cluster (``--address``: one to join; without it a local one on this machine), every
-scene at once; ``--executor processes`` does the same in worker processes of this machine, for a GPU or many
-cores that one renderer cannot keep busy. The datasets are byte-identical to an in-process compile's
-(:mod:`vc.stages.executors`).
+scene at once. ``--executor processes`` renders the shards in worker processes of this machine, for a GPU or
+many cores that one renderer cannot keep busy; the regions then train in turn, and scenes compile one after
+another. The datasets are byte-identical to an in-process compile's (:mod:`vc.stages.executors`).
 """
 
 from __future__ import annotations
