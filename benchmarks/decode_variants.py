@@ -23,7 +23,7 @@ from tqdm import tqdm
 
 from vc.deploy.decode import DecodeConfig
 from vc.deploy.frames import FrameRange, FrameSource
-from vc.deploy.runtime import Runtime
+from vc.deploy.runtime import Runtime, without_seam_duplicates
 from vc.evaluation.agreement import pose_agreement
 from vc.evaluation.annotated_area import AnnotatedArea
 from vc.evaluation.baselines import YoloPoseOnnx
@@ -94,8 +94,11 @@ def measure(runtime: Runtime, numbers: list[int], maps: list[list[np.ndarray]], 
     the keypoints' agreement with ``reference`` when given."""
     images = []
     for number, per_region in zip(numbers, maps, strict=True):
-        people = [person for runner, heatmaps in zip(runtime.runners, per_region, strict=True)
-                  for person in runner.people_in(heatmaps, replace(runner.entry.decode, **changes))]
+        # as the runtime reports a frame: every region's people, strongest first, one of each seam duplicate
+        people = without_seam_duplicates(sorted(
+            (person for runner, heatmaps in zip(runtime.runners, per_region, strict=True)
+             for person in runner.people_in(heatmaps, replace(runner.entry.decode, **changes))),
+            key=lambda person: -person.score))
         images.append(ImageResult(truth.get(number, np.zeros((0, 4))), np.array([p.box for p in people]).reshape(-1, 4),
                                   np.array([p.score for p in people]),
                                   keypoints=np.array([p.keypoints for p in people]).reshape(-1, 17, 3)))

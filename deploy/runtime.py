@@ -2,10 +2,13 @@
 
 Per frame: cut each region's crop window (the graph resizes and normalises it), run the region models, decode
 their heat maps (:mod:`vc.deploy.decode`, the same code the training evaluation uses), keep the people each region
-owns — those whose foot point falls in its owned image area — and map them to frame pixels. A person standing on
-the seam of two owned areas can still be kept twice: each region puts the feet a few pixels differently, on its
-own side (PETS09 frame 1: one walker's feet at y 319 in r1 and 323 in r2, boxes at IoU 0.88). Of two people of
-different regions overlapping more than :data:`SEAM_DUPLICATE_IOU`, the weaker is dropped.
+owns — those whose foot point falls in its owned image area — and map them to frame pixels. At a seam between two
+regions the foot point is uncertain by a few pixels (it is the bottom of a decoded box), so a region also keeps a
+person whose feet it puts just across the seam, in a neighbour's area within :data:`SEAM_FOOT_TOLERANCE` box
+heights of its own: otherwise a person the neighbour does not find is lost by both. A person standing on the seam
+can so be kept twice, once by each region (PETS09 frame 1: one walker's feet at y 319 in r1 and 323 in r2, boxes
+at IoU 0.88). Of two people of different regions overlapping more than :data:`SEAM_DUPLICATE_IOU` one is dropped:
+the one kept across a seam, else the weaker.
 """
 
 from __future__ import annotations
@@ -27,6 +30,17 @@ from vc.errors import InputError
 #: Since benchmarks/results/seam_duplicates.md: on the six PETS09 and TUD bundles, 0.6 and 0.7 both raised real
 #: AP50 each frame and tracked, all twelve (0.6 by 0.001-0.007); 0.5 lost 0.006 tracked on one.
 SEAM_DUPLICATE_IOU = 0.6
+#: How far across a seam, in the person's box heights (up or down the image), a region keeps a person whose feet it
+#: puts in a neighbour's owned area (module docstring). Beyond the outer edge of the regions it keeps no one: no
+#: region owns that ground. Since benchmarks/results/seam_tolerance.md: on TUD-Stadtmitte's eye-level camera, where
+#: a few pixels of foot are a metre of depth, a quarter of the missed people had been found by the region beside the
+#: seam and dropped there.
+SEAM_FOOT_TOLERANCE = 0.1
+#: A person kept across a seam who overlaps another region's person by more than this is that person, seen from
+#: the side (:func:`without_seam_duplicates`). Lower than SEAM_DUPLICATE_IOU: letting the stronger of such a pair
+#: win, or dropping it only above SEAM_DUPLICATE_IOU, doubled people at the seams (TUD-Stadtmitte MOTA 0.67 -> 0.62,
+#: benchmarks/results/seam_tolerance.md).
+ACROSS_SEAM_DUPLICATE_IOU = 0.3
 
 
 @dataclass
@@ -48,6 +62,7 @@ class Person:
     facing: str = "appearance"  # what ordered the left/right pairs: "appearance" (the network) or "motion"
     coasted: bool = False  # not seen in this frame: carried by its track (vc.deploy.tracking), without a mask
     weak: bool = False  # below the bundle's centre threshold: decoded only for a tracker to continue a track with
+    across_seam: bool = False  # feet in a neighbour's owned area, kept within SEAM_FOOT_TOLERANCE (module docstring)
 
     def frame_mask(self, frame_size: tuple[int, int]) -> np.ndarray:
         """The mask as an (H, W) bool array over a frame of ``frame_size`` (width, height)."""
@@ -99,12 +114,29 @@ def in_area(points: np.ndarray, area: dict) -> np.ndarray:
     return result
 
 
+def just_across_seam(feet: np.ndarray, heights: np.ndarray, area: dict, neighbour_areas: tuple[dict, ...]
+                     ) -> np.ndarray:
+    """Which of the people with these foot points (N, 2) and box heights (N,), frame pixels, a region with owned
+    ``area`` keeps across a seam: their feet lie in one of ``neighbour_areas``, within :data:`SEAM_FOOT_TOLERANCE`
+    heights of ``area`` straight up or down the image (the foot point's error is the box bottom's; tested at
+    quarter steps). Feet beyond every region's area are no region's."""
+    in_neighbour = np.any([in_area(feet, neighbour) for neighbour in neighbour_areas], axis=0)
+    candidates = np.flatnonzero(in_neighbour & ~in_area(feet, area))
+    across = np.zeros(len(feet), bool)
+    for step in (0.25, 0.5, 0.75, 1.0) if len(candidates) else ():
+        shift = np.column_stack([np.zeros(len(candidates)), step * SEAM_FOOT_TOLERANCE * heights[candidates]])
+        for moved in (feet[candidates] - shift, feet[candidates] + shift):
+            across[candidates[in_area(moved, area)]] = True
+    return across
+
+
 class RegionRunner:
     """One region's model session and the mapping from its network input to frame pixels."""
 
     def __init__(self, entry: RegionEntry, frame_size: tuple[int, int], threads: int,
-                 weak_people_above: float | None = None) -> None:
+                 weak_people_above: float | None = None, neighbour_areas: tuple[dict, ...] = ()) -> None:
         self.entry = entry
+        self.neighbour_areas = neighbour_areas  # the other regions' owned image areas (GeoJSON)
         self.weak_people_above = weak_people_above
         options = ort.SessionOptions()
         options.intra_op_num_threads = threads
@@ -140,15 +172,18 @@ class RegionRunner:
         if not decoded:
             return []
         boxes = self.to_frame(np.array([person.box for person in decoded]).reshape(-1, 2)).reshape(-1, 4)
-        owned = in_area(foot_points(boxes), self.entry.owned_image_area)
-        return [self._person(person, box) for person, box, keep in zip(decoded, boxes, owned, strict=True) if keep]
+        feet = foot_points(boxes)
+        inside = in_area(feet, self.entry.owned_image_area)
+        across = just_across_seam(feet, boxes[:, 3] - boxes[:, 1], self.entry.owned_image_area, self.neighbour_areas)
+        return [self._person(person, box, bool(is_across)) for person, box, is_inside, is_across
+                in zip(decoded, boxes, inside, across, strict=True) if is_inside or is_across]
 
-    def _person(self, person: DecodedPerson, box: np.ndarray) -> Person:
+    def _person(self, person: DecodedPerson, box: np.ndarray, across_seam: bool) -> Person:
         keypoints = person.keypoints.copy()
         keypoints[:, :2] = self.to_frame(keypoints[:, :2])
         mask, origin = self._frame_mask(person.mask_cells)
         return Person(self.entry.name, person.score, box, keypoints, mask, origin, person.pair_handedness,
-                      weak=person.weak)
+                      weak=person.weak, across_seam=across_seam)
 
     def _cells_of_crop_pixels(self, cells_shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
         """The heat-map row of each crop pixel row and column of each crop pixel column (the cell their centres
@@ -205,8 +240,10 @@ class Runtime:
         if parallel_regions is None:
             parallel_regions = len(self.bundle.regions) > 1 and (threads or cores) > 1
         per_region = 1 if parallel_regions else (threads or cores)
-        self.runners = [RegionRunner(entry, self.bundle.frame_size, per_region, weak_people_above)
-                        for entry in self.bundle.regions]
+        areas = [entry.owned_image_area for entry in self.bundle.regions]
+        self.runners = [RegionRunner(entry, self.bundle.frame_size, per_region, weak_people_above,
+                                     tuple(areas[:index] + areas[index + 1:]))
+                        for index, entry in enumerate(self.bundle.regions)]
         self.pool = ThreadPoolExecutor(max_workers=threads or cores) if parallel_regions else None
 
     def check_frame(self, frame: np.ndarray) -> None:
@@ -243,12 +280,18 @@ class Runtime:
 
 
 def without_seam_duplicates(people: list[Person], iou: float = SEAM_DUPLICATE_IOU) -> list[Person]:
-    """``people`` (strongest first) without those overlapping a stronger person of another region by more than
-    ``iou``: one person kept by two regions at their seam. People of one region are the decoder's to separate."""
+    """``people`` (strongest first) without those overlapping a person of another region by more than ``iou``: one
+    person kept by two regions at their seam. The one kept across the seam gives way to the owner's, whatever
+    their scores (the owner's network was trained on people standing there), and already where they overlap by
+    more than :data:`ACROSS_SEAM_DUPLICATE_IOU`; otherwise the weaker gives way. A weak person (decoded for a
+    tracker only) never removes another. People of one region are the decoder's to separate."""
     kept: list[Person] = []
-    for person in people:
+    # stable: strongest first within each of strong owners', strong across a seam, weak owners', weak across
+    for person in sorted(people, key=lambda person: (person.weak, person.across_seam)):
         others = [other.box for other in kept if other.region != person.region]
-        if others and box_iou(person.box[None], np.array(others))[0].max() > iou:
+        limit = ACROSS_SEAM_DUPLICATE_IOU if person.across_seam else iou
+        if others and box_iou(person.box[None], np.array(others))[0].max() > limit:
             continue
         kept.append(person)
-    return kept
+    kept_ids = {id(person) for person in kept}
+    return [person for person in people if id(person) in kept_ids]

@@ -142,3 +142,44 @@ def test_one_person_kept_by_two_regions_at_their_seam_is_reported_once() -> None
     # People of two regions side by side stay two.
     beside = _person_at("r2", 0.77, [670, 240, 712, 322])
     assert without_seam_duplicates([r1, beside]) == [r1, beside]
+
+
+def test_a_region_keeps_people_just_across_a_seam_but_not_beyond_the_outer_edge() -> None:
+    """Feet a few pixels into the neighbour's area are the box bottom's error, not another region's person; ground
+    no region owns stays unowned."""
+    from vc.deploy.runtime import SEAM_FOOT_TOLERANCE, just_across_seam
+
+    def band(y0: float, y1: float) -> dict:
+        return {"type": "Polygon", "coordinates": [[[0, y0], [100, y0], [100, y1], [0, y1], [0, y0]]]}
+
+    own, neighbour = band(0, 100), band(100, 200)
+    height = 80.0
+    reach = SEAM_FOOT_TOLERANCE * height
+    feet = np.array([[50, 50], [50, 100 + 0.9 * reach], [50, 100 + 1.5 * reach], [50, -0.5 * reach],
+                     [150, 100 + 0.5 * reach]])
+    heights = np.full(len(feet), height)
+    # in its own area (kept as its own), just across, too far across, beyond the outer edge, beside the neighbour
+    assert just_across_seam(feet, heights, own, (neighbour,)).tolist() == [False, True, False, False, False]
+    # Without neighbours (a one-region bundle) there is no seam to keep anyone across.
+    assert not just_across_seam(feet, heights, own, ()).any()
+
+
+def test_at_a_seam_the_owning_regions_person_wins_over_one_kept_across_it() -> None:
+    """The region that kept a person across its seam gives way to the region whose area the feet are in, even
+    when its score is higher; the people come back strongest first."""
+    from vc.deploy.runtime import without_seam_duplicates
+
+    across = _person_at("r1", 1.02, [641, 237, 684, 319])
+    across.across_seam = True
+    owner = _person_at("r2", 0.77, [640, 242, 684, 323])
+    other = _person_at("r1", 0.9, [100, 200, 140, 280])
+    assert without_seam_duplicates([across, other, owner]) == [other, owner]
+    # Kept across a seam but found by nobody else: reported.
+    assert without_seam_duplicates([across, other]) == [across, other]
+    # Already a partial overlap with the owner's person is that person (IoU 0.47 here).
+    beside = _person_at("r2", 0.5, [655, 240, 699, 322])
+    assert without_seam_duplicates([across, beside]) == [beside]
+    # A weak owner's person (kept for a tracker only) takes no one's place.
+    weak_owner = _person_at("r2", 0.2, [640, 242, 684, 323])
+    weak_owner.weak = True
+    assert without_seam_duplicates([across, weak_owner]) == [across]
