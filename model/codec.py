@@ -51,18 +51,25 @@ class CodecConfig:
         return asdict(self)
 
 
-def _draw_gaussian(heatmap: np.ndarray, centre: np.ndarray, sigma: float) -> None:
-    """Max-combine a unit-peak Gaussian (cell units) into ``heatmap`` (h, w), truncated to its support."""
-    height, width = heatmap.shape
+def _draw_gaussians(heatmaps: np.ndarray, channels: np.ndarray, centres: np.ndarray, sigma: float) -> None:
+    """Max-combine a unit-peak Gaussian (cell units) of ``sigma`` into each of the maps ``heatmaps[channels]``
+    ((K,) of (C, h, w)) at its centre (K, 2), truncated to its support. The K Gaussians are evaluated in one array
+    (a person's keypoints share their sigma): the loader's time is the training step's on a CPU."""
+    _, height, width = heatmaps.shape
     reach = TRUNCATE_SIGMAS * sigma
-    x0, x1 = max(int(np.floor(centre[0] - reach)), 0), min(int(np.ceil(centre[0] + reach)) + 1, width)
-    y0, y1 = max(int(np.floor(centre[1] - reach)), 0), min(int(np.ceil(centre[1] + reach)) + 1, height)
-    if x0 >= x1 or y0 >= y1:
-        return
-    xs = np.arange(x0, x1) - centre[0]
-    ys = np.arange(y0, y1) - centre[1]
-    gaussian = np.exp(-(ys[:, None] ** 2 + xs[None, :] ** 2) / (2.0 * sigma**2)).astype(np.float32)
-    np.maximum(heatmap[y0:y1, x0:x1], gaussian, out=heatmap[y0:y1, x0:x1])
+    x0 = np.floor(centres[:, 0] - reach).astype(int)
+    y0 = np.floor(centres[:, 1] - reach).astype(int)
+    x1 = np.ceil(centres[:, 0] + reach).astype(int) + 1
+    y1 = np.ceil(centres[:, 1] + reach).astype(int) + 1
+    size = int(max((x1 - x0).max(initial=0), (y1 - y0).max(initial=0)))
+    xs = (x0[:, None] + np.arange(size)) - centres[:, 0, None]  # (K, size): each window cell minus the centre
+    ys = (y0[:, None] + np.arange(size)) - centres[:, 1, None]
+    gaussians = np.exp(-(ys[:, :, None] ** 2 + xs[:, None, :] ** 2) / (2.0 * sigma**2)).astype(np.float32)
+    for channel, gaussian, left, top, right, bottom in zip(channels, gaussians, x0, y0, x1, y1, strict=True):
+        cx0, cx1, cy0, cy1 = max(left, 0), min(right, width), max(top, 0), min(bottom, height)
+        if cx0 < cx1 and cy0 < cy1:
+            window = heatmaps[channel, cy0:cy1, cx0:cx1]
+            np.maximum(window, gaussian[cy0 - top:cy1 - top, cx0 - left:cx1 - left], out=window)
 
 
 def person_height_px(annotation: dict) -> float:
@@ -83,15 +90,16 @@ def encode(annotations: list[dict], instances: np.ndarray, config: CodecConfig =
         size_cells = person_height_px(annotation) / stride
         if annotation.get("center") is not None:
             sigma = max(config.centre_sigma * size_cells, config.min_sigma_cells)
-            _draw_gaussian(heatmaps[CENTRE_CHANNEL], input_to_cells(annotation["center"], stride), sigma)
+            _draw_gaussians(heatmaps, np.array([CENTRE_CHANNEL]), input_to_cells([annotation["center"]], stride),
+                            sigma)
         sigma = max(config.keypoint_sigma * size_cells, config.min_sigma_cells)
         keypoints = np.asarray(annotation["keypoints"], np.float64).reshape(-1, 3)
         if annotation.get("left_is_image_left") is not None:
             keypoints = swap_pairs(keypoints, np.logical_not(annotation["left_is_image_left"]))
-        for channel, (u, v, visibility) in zip(range(KEYPOINT_CHANNELS.start, KEYPOINT_CHANNELS.stop), keypoints,
-                                               strict=True):
-            if visibility > 0:
-                _draw_gaussian(heatmaps[channel], input_to_cells([u, v], stride), sigma)
+        labelled = np.flatnonzero(keypoints[:, 2] > 0)
+        if len(labelled):
+            _draw_gaussians(heatmaps, KEYPOINT_CHANNELS.start + labelled,
+                            input_to_cells(keypoints[labelled, :2], stride), sigma)
     covered = (instances > 0).astype(np.float32)
     heatmaps[MASK_CHANNEL] = covered.reshape(cells[0], stride, cells[1], stride).mean(axis=(1, 3))
     for annotation in annotations:

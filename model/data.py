@@ -31,12 +31,20 @@ class Augmentation:
     noise: float = 0.02  # max standard deviation of additive noise (in [0, 1] units)
 
     def apply(self, image: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+        """``image`` (float32, changed in place) jittered. In place, operation by operation as written out
+        ``clip((image - mean) * contrast + mean) * gain + noise``: the same float32 results without the
+        temporaries (the loader shares the cores with the training step: its time is the step's)."""
         gain = 2.0 ** rng.uniform(-self.exposure, self.exposure)
         contrast = 1.0 + rng.uniform(-self.contrast, self.contrast)
         mean = image.mean()
-        image = (image - mean) * contrast + mean
-        noise = rng.standard_normal(image.shape, dtype=np.float32) * np.float32(rng.uniform(0.0, self.noise))
-        return np.clip(image * np.float32(gain) + noise, 0.0, 1.0, dtype=np.float32)
+        image -= mean
+        image *= contrast
+        image += mean
+        noise = rng.standard_normal(image.shape, dtype=np.float32)
+        noise *= np.float32(rng.uniform(0.0, self.noise))
+        image *= np.float32(gain)
+        image += noise
+        return np.clip(image, 0.0, 1.0, out=image)
 
 
 def shifted(annotation: dict, dx: float, dy: float) -> dict:
@@ -95,13 +103,16 @@ class TrainingStream(Dataset):
         self.samples, self.codec, self.input_size = samples, codec, input_size
         self.crop, self.augmentation, self.seed = crop, augmentation, seed
         self.cache_bytes, self._cache, self._cached_bytes = cache_bytes, {}, 0
+        self._permutation: tuple[int, np.ndarray] | None = None  # (epoch, its sample order): drawn once an epoch
 
     def __len__(self) -> int:
         return len(self.samples)
 
     def sample_index(self, draw: int) -> int:
         epoch, position = divmod(draw, len(self.samples))
-        return int(np.random.default_rng([self.seed, epoch]).permutation(len(self.samples))[position])
+        if self._permutation is None or self._permutation[0] != epoch:
+            self._permutation = epoch, np.random.default_rng([self.seed, epoch]).permutation(len(self.samples))
+        return int(self._permutation[1][position])
 
     def _decoded(self, index: int) -> tuple[np.ndarray, np.ndarray]:
         if index in self._cache:

@@ -91,6 +91,28 @@ def test_augmentation_is_deterministic_per_draw(small_dataset) -> None:
     assert not np.array_equal(first.numpy(), dataset[later][0].numpy())
 
 
+def test_each_draw_is_the_same_item_in_any_order_of_draws(small_dataset) -> None:
+    """A data-loader worker draws its share of a batch out of order and across epoch boundaries; a resumed run
+    starts mid-epoch. Whatever the order, draw k is the same item (the stream keeps its epoch's order between
+    draws), so the run's bytes do not depend on how the draws were shared out."""
+    data = open_region(small_dataset, "r0")
+
+    def stream() -> TrainingStream:
+        return TrainingStream(data.train, CodecConfig(), data.input_size, seed=3)
+
+    count = len(data.train)
+    draws = [0, 1, count + 2, 3, 2 * count + 1, count, 1]
+    in_order, shuffled = stream(), stream()
+    expected = {draw: in_order[draw] for draw in sorted(set(draws))}
+    for draw in draws:
+        image, targets = shuffled[draw]
+        assert image.numpy().tobytes() == expected[draw][0].numpy().tobytes()
+        assert targets.numpy().tobytes() == expected[draw][1].numpy().tobytes()
+    # and the order of an epoch is its own: the seed's generator for (seed, epoch)
+    assert [shuffled.sample_index(count + k) for k in range(count)] == \
+        np.random.default_rng([3, 1]).permutation(count).tolist()
+
+
 def _broken_copy(small_dataset: Path, tmp_path: Path) -> Path:
     copy = tmp_path / "copy"
     shutil.copytree(small_dataset, copy)
