@@ -31,8 +31,8 @@ class Augmentation:
     noise: float = 0.02  # max standard deviation of additive noise (in [0, 1] units)
 
     def apply(self, image: np.ndarray, rng: np.random.Generator) -> np.ndarray:
-        """``image`` (float32, changed in place) jittered. In place, operation by operation as written out
-        ``clip((image - mean) * contrast + mean) * gain + noise``: the same float32 results without the
+        """``image`` (float32, changed in place) jittered: ``clip(((image - mean) * contrast + mean) * gain +
+        noise, 0, 1)``, one operation at a time in place, which gives the same float32 values without the
         temporaries (the loader shares the cores with the training step: its time is the step's)."""
         gain = 2.0 ** rng.uniform(-self.exposure, self.exposure)
         contrast = 1.0 + rng.uniform(-self.contrast, self.contrast)
