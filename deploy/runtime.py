@@ -174,7 +174,11 @@ class RegionRunner:
         boxes = self.to_frame(np.array([person.box for person in decoded]).reshape(-1, 2)).reshape(-1, 4)
         feet = foot_points(boxes)
         inside = in_area(feet, self.entry.owned_image_area)
-        across = just_across_seam(feet, boxes[:, 3] - boxes[:, 1], self.entry.owned_image_area, self.neighbour_areas)
+        # only the people outside the region's own area can be across a seam (usually none: no further tests)
+        across, outside = np.zeros(len(feet), bool), np.flatnonzero(~inside)
+        if len(outside):
+            across[outside] = just_across_seam(feet[outside], boxes[outside, 3] - boxes[outside, 1],
+                                               self.entry.owned_image_area, self.neighbour_areas)
         return [self._person(person, box, bool(is_across)) for person, box, is_inside, is_across
                 in zip(decoded, boxes, inside, across, strict=True) if is_inside or is_across]
 
