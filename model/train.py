@@ -147,13 +147,21 @@ def native_bf16() -> bool:
 GPU_DATA_WORKERS = 12
 
 
+#: Up to this many usable cores, the CPU's windows are cut in the training process itself: a loader process
+#: would be a third busy thread on two cores, and the step's threads, which meet at every operator, wait for
+#: whichever of them the scheduler parked. On 2 cores the same 240 steps of PETS09's r1 took 51 s in-process
+#: against 58 s with a loader process (53-54 s with that process at the lowest priority), the same bytes
+#: (benchmarks/results/loader_pets09.md).
+IN_PROCESS_LOADING_CORES = 2
+
+
 def data_workers(device: torch.device) -> int:
-    """Data-loading processes for training on ``device``. On the CPU one: the training step already takes every
-    core, and a second loader only competes with it. On a GPU the step takes milliseconds and decoding the PNG
-    windows is the limit, so every core but two (the main process and the system), at most
-    :data:`GPU_DATA_WORKERS`."""
+    """Data-loading processes for training on ``device``. On a CPU of at most
+    :data:`IN_PROCESS_LOADING_CORES` cores none (see there); on a larger one one: the step takes the cores, and a
+    second loader only competes with it. On a GPU the step takes milliseconds and decoding the PNG windows is the
+    limit, so every core but two (the main process and the system), at most :data:`GPU_DATA_WORKERS`."""
     if device.type == "cpu":
-        return 1
+        return 0 if usable_cores() <= IN_PROCESS_LOADING_CORES else 1
     return max(1, min(GPU_DATA_WORKERS, usable_cores() - 2))
 
 

@@ -59,8 +59,9 @@ class TrainSettings(_Section):
     batch_size: int = Field(TrainConfig.batch_size, ge=1, description="windows per step")
     seed: int = Field(TrainConfig.seed, description="seed of the weights and the data order")
     workers: Annotated[int, Field(ge=0)] | Literal["auto"] = Field(
-        "auto", description="data-loading processes (not part of what is trained); auto: 1 on the CPU, on a GPU "
-                            "every core but two, at most 12")
+        "auto", description="data-loading processes (not part of what is trained); auto: on the CPU none "
+                            "(in the training process) up to 2 cores and 1 above, on a GPU every core but two, "
+                            "at most 12")
     bf16_autocast: bool | Literal["auto"] = Field("auto", description="forward pass in bfloat16; auto: where "
                                                   "the hardware has bf16 instructions (about twice as fast there)")
     channels_last: bool | Literal["auto"] = Field("auto", description="NHWC activations (oneDNN's preferred order "
