@@ -37,8 +37,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from vc.deploy.areas import in_area
 from vc.deploy.boxes import box_iou, foot_points
-from vc.deploy.runtime import in_area
 from vc.evaluation.annotated_area import AnnotatedArea
 from vc.evaluation.metrics import IOU_THRESHOLD, Evaluation, ImageResult, evaluate
 

@@ -18,7 +18,8 @@ from typing import TYPE_CHECKING
 import cv2
 import numpy as np
 
-from vc.deploy.runtime import Runtime, in_area
+from vc.deploy.areas import in_area
+from vc.deploy.runtime import Runtime
 from vc.evaluation.draw import draw_people
 from vc.evaluation.metrics import ImageResult, evaluate
 from vc.evaluation.renders import asked_for

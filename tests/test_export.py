@@ -20,10 +20,11 @@ from dataset_factory import INPUT_SIZE, region_camera, sample, write_dataset
 
 from vc.cli.export import main as vc_export
 from vc.cli.run import main as vc_run
+from vc.deploy.areas import ImageArea, in_area
 from vc.deploy.bundle import load_bundle
 from vc.deploy.decode import DecodeConfig, decode
 from vc.deploy.heatmaps import HEATMAP_CHANNELS, channel_names
-from vc.deploy.runtime import Runtime, in_area
+from vc.deploy.runtime import Runtime
 from vc.errors import InputError
 from vc.io import write_image
 from vc.model.export import DeployedNetwork, bundle_files, export_onnx
@@ -162,6 +163,23 @@ def test_ownership_follows_the_owned_area_with_holes():
     assert in_area(points, area).tolist() == [True, False, False, True]
     multi = {"type": "MultiPolygon", "coordinates": [area["coordinates"], [[[20, 0], [30, 0], [30, 5], [20, 0]]]]}
     assert in_area(np.array([[25, 1], [25, 4]]), multi).tolist() == [True, False]
+
+
+def test_an_area_tested_in_one_pass_agrees_with_shapely_on_an_owned_area_with_many_holes():
+    """The runtime tests all of a polygon's rings at once (outer ring and holes: :mod:`vc.deploy.areas`); an owned
+    area with an obstacle hole beside another, and a second polygon, against shapely's own test."""
+    import shapely
+
+    outer = shapely.Polygon([(0, 0), (300, 10), (280, 200), (120, 260), (5, 180)])
+    holes = [shapely.Point(x, y).buffer(r) for x, y, r in ((60, 60, 20), (110, 62, 25), (200, 120, 30),
+                                                             (150, 190, 12))]
+    area = shapely.MultiPolygon([outer.difference(shapely.union_all(holes)),
+                                 shapely.box(400, 0, 450, 90)])
+    geojson = shapely.geometry.mapping(area)
+    points = np.random.default_rng(5).uniform([-20, -20], [470, 280], (4000, 2))
+    expected = shapely.contains_xy(area, points[:, 0], points[:, 1])
+    assert ImageArea(geojson).contains(points).tolist() == expected.tolist()
+    assert expected.sum() > 1000 and (~expected).sum() > 1000  # both sides well represented
 
 
 def test_an_unfinished_run_is_not_exported(tmp_path, capsys):

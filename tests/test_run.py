@@ -147,10 +147,11 @@ def test_one_person_kept_by_two_regions_at_their_seam_is_reported_once() -> None
 def test_a_region_keeps_people_just_across_a_seam_but_not_beyond_the_outer_edge() -> None:
     """Feet a few pixels into the neighbour's area are the box bottom's error, not another region's person; ground
     no region owns stays unowned."""
+    from vc.deploy.areas import ImageArea
     from vc.deploy.runtime import SEAM_FOOT_TOLERANCE, just_across_seam
 
-    def band(y0: float, y1: float) -> dict:
-        return {"type": "Polygon", "coordinates": [[[0, y0], [100, y0], [100, y1], [0, y1], [0, y0]]]}
+    def band(y0: float, y1: float) -> ImageArea:
+        return ImageArea({"type": "Polygon", "coordinates": [[[0, y0], [100, y0], [100, y1], [0, y1], [0, y0]]]})
 
     own, neighbour = band(0, 100), band(100, 200)
     height = 80.0
