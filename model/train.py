@@ -149,9 +149,9 @@ GPU_DATA_WORKERS = 12
 
 #: Up to this many usable cores, the CPU's windows are cut in the training process itself: a loader process
 #: would be a third busy thread on two cores, and the step's threads, which meet at every operator, wait for
-#: whichever of them the scheduler parked. On 2 cores the same 240 steps of PETS09's r1 took 51 s in-process
-#: against 58 s with a loader process (53-54 s with that process at the lowest priority), the same bytes
-#: (benchmarks/results/loader_pets09.md).
+#: whichever of them the scheduler parked. On 2 cores a whole PETS09 standard training took 1 050 s in-process
+#: against 1 215 s with a loader process (even at the lowest priority the process cost 3 of its 7 s per 240
+#: steps), the same weights (benchmarks/results/loader_placement.md).
 IN_PROCESS_LOADING_CORES = 2
 
 
