@@ -26,6 +26,7 @@ RUNTIME_MODULES = {
     "vc/errors.py": "vc/errors.py",
     "vc/keypoints.py": "vc/keypoints.py",
     "deploy/__init__.py": "vc/deploy/__init__.py",
+    "deploy/areas.py": "vc/deploy/areas.py",
     "deploy/boxes.py": "vc/deploy/boxes.py",
     "deploy/bundle.py": "vc/deploy/bundle.py",
     "deploy/decode.py": "vc/deploy/decode.py",
