@@ -21,16 +21,21 @@ from pathlib import Path
 
 import torch
 
+from vc.cli.common import handles_input_errors
 from vc.cores import cpu_facts, usable_cores
+from vc.errors import InputError, StageError
 from vc.io import write_json
 
 
 def train_once(renders: Path, run: Path, region: str, steps: int, workers: int) -> dict:
     """One ``vc-train`` run in a fresh process (as a compile runs it); its own figures and the wall time."""
     started = time.perf_counter()
-    subprocess.run([str(Path(sys.executable).with_name("vc-train")), str(renders), "-o", str(run), "--region", region,
-                    "--steps", str(steps), "--workers", str(workers), "--quiet"], check=True,
-                   stdout=subprocess.DEVNULL)
+    done = subprocess.run([str(Path(sys.executable).with_name("vc-train")), str(renders), "-o", str(run), "--region",
+                           region, "--steps", str(steps), "--workers", str(workers), "--quiet"],
+                          stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    if done.returncode:  # vc-train said why in one line; bad input (status 2) stays bad input here
+        reason = done.stderr.strip().splitlines()[-1].removeprefix("error: ") if done.stderr.strip() else "failed"
+        raise (InputError(None, "", reason) if done.returncode == 2 else StageError(f"vc-train: {reason}"))
     wall = time.perf_counter() - started
     figures = json.loads((run / "metrics.json").read_text())["regions"][region]
     return {"workers": workers, "wall_s": round(wall, 2), "train_s": figures["train_seconds"],
@@ -42,6 +47,7 @@ def same_weights(first: Path, second: Path, region: str) -> bool:
     return a.keys() == b.keys() and all(torch.equal(a[name], b[name]) for name in a)
 
 
+@handles_input_errors
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("renders", type=Path)

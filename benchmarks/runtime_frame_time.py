@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from vc.cli.common import handles_input_errors
 from vc.deploy.frames import FrameRange, FrameSource
 from vc.deploy.runtime import Runtime
 
@@ -36,6 +37,7 @@ def frame_milliseconds(bundle: Path, frames: list[np.ndarray], parallel: bool, t
     return round(float(np.median(times)) * 1e3, 2)
 
 
+@handles_input_errors
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("bundle", type=Path)
