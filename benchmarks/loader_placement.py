@@ -21,7 +21,6 @@ from pathlib import Path
 
 import torch
 
-from vc.cli.common import handles_input_errors
 from vc.cores import cpu_facts, usable_cores
 from vc.errors import InputError, StageError
 from vc.io import write_json
@@ -47,7 +46,6 @@ def same_weights(first: Path, second: Path, region: str) -> bool:
     return a.keys() == b.keys() and all(torch.equal(a[name], b[name]) for name in a)
 
 
-@handles_input_errors
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("renders", type=Path)
@@ -62,7 +60,13 @@ def main(argv: list[str] | None = None) -> int:
     for round_index in range(args.rounds):
         for workers in args.workers:
             folder = args.out / f"run-w{workers}-{round_index}"
-            result = train_once(args.renders, folder, args.region, args.steps, workers) | {"round": round_index}
+            try:
+                result = train_once(args.renders, folder, args.region, args.steps, workers) | {"round": round_index}
+            except InputError as error:
+                parser.error(str(error))
+            except StageError as error:
+                print(f"error: {error}", file=sys.stderr)
+                return 1
             folders.setdefault(workers, folder)
             runs.append(result)
             print(f"round {round_index} workers {workers}: train {result['train_s']:.1f} s, "

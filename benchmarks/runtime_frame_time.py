@@ -19,9 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
-from vc.cli.common import handles_input_errors
 from vc.deploy.frames import FrameRange, FrameSource
 from vc.deploy.runtime import Runtime
+from vc.errors import InputError
 
 
 def frame_milliseconds(bundle: Path, frames: list[np.ndarray], parallel: bool, threads: int, repeats: int) -> float:
@@ -37,7 +37,6 @@ def frame_milliseconds(bundle: Path, frames: list[np.ndarray], parallel: bool, t
     return round(float(np.median(times)) * 1e3, 2)
 
 
-@handles_input_errors
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("bundle", type=Path)
@@ -48,7 +47,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--label", default=None, help="what to call this measurement (default: the commit)")
     parser.add_argument("--out", type=Path, default=None)
     args = parser.parse_args(argv)
-    frames = [frame.image for frame in FrameSource(args.video, args.frames)]
+    try:
+        frames = [frame.image for frame in FrameSource(args.video, args.frames)]
+        Runtime(args.bundle).close()  # a bundle that does not load is bad input, said before any timing
+    except InputError as error:
+        parser.error(str(error))
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
                             cwd=Path(__file__).resolve().parent).stdout.strip()
     result = {"label": args.label or commit, "commit": commit, "bundle": str(args.bundle), "frames": len(frames),
