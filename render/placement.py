@@ -4,7 +4,8 @@ Most people stand on the region's own ground polygon. Some are placed on purpose
 
 * across the region's border (a ring of ground outside its polygon): the crop shows them, another region owns
   them, and the network must still see them as people (DESIGN.md, "Regions": labelled in every crop);
-* just behind an obstacle as seen from the camera, so that part of the body is hidden.
+* where an obstacle hides part of the body from the camera (:func:`hidden_ground`): right behind a bollard, but
+  metres behind a raised sign, whose shadow from the camera falls on the torsos of people far beyond its post.
 
 People cut by the image border come from the same rules: a region's crop reaches the image border wherever its
 ground does. Orientation is uniform or drawn from the scene's von Mises mixture (azimuth of the walking
@@ -25,17 +26,21 @@ from dataclasses import dataclass
 
 import numpy as np
 import shapely
-import shapely.affinity
-from shapely.geometry import Point
+from shapely.geometry import Point, Polygon
 
 from vc.calibration.camera import Camera
-from vc.scenes.layout import Layout
+from vc.scenes.layout import Box, Cylinder, Layout, Wall
 from vc.scenes.schema import Priors
 
 #: Width (m) of the ring around a region's polygon where border-straddling people stand.
 BORDER_RING_M = 1.5
-#: People "behind an obstacle" stand within this distance (m) of its far side, seen from the camera.
-BEHIND_OBSTACLE_M = 1.2
+#: Heights on a standing person (m), shins to head: a person stands behind an obstacle when it hides one of them.
+HIDDEN_BODY_HEIGHTS_M = (0.3, 0.55, 0.8, 1.05, 1.3, 1.55)
+#: A person whose vertical axis passes this close (m) to a hidden point has that side of the body hidden.
+BODY_HALF_WIDTH_M = 0.2
+#: An obstacle that reaches the camera's height hides all the ground beyond it; that ground is cut this far (m)
+#: beyond the obstacle (the region's surroundings cut it sooner).
+HIDDEN_REACH_M = 60.0
 #: Nobody stands closer than this to another person (m, between feet centres): shoulders do not interpenetrate.
 MIN_SEPARATION_M = 0.6
 #: Tries per person before a crowded sample settles for fewer people.
@@ -78,6 +83,68 @@ def default_max_people(region_ground: shapely.Geometry, m2_per_person: float) ->
     return int(np.clip(math.ceil(region_ground.area / m2_per_person), MIN_MAX_PEOPLE, max(cap, MIN_MAX_PEOPLE)))
 
 
+def hidden_ground(camera_centre: np.ndarray, blocker: Box | Cylinder | Wall) -> shapely.Geometry:
+    """Ground (m) where a person standing would have part of the body hidden by ``blocker`` from a camera at
+    ``camera_centre`` (3,): for each of :data:`HIDDEN_BODY_HEIGHTS_M`, the obstacle's shadow on the plane at that
+    height with the camera as the light, widened by :data:`BODY_HALF_WIDTH_M`.
+
+    The ray from the camera to a body point at height z descends from the camera to z, so it can only meet the
+    obstacle's part between z and the camera's height: that part, projected along the rays onto the plane z, is the
+    set of hidden points at height z, and for a convex obstacle (box, cylinder, wall) it is the convex hull of its
+    projected corners. A raised obstacle hides people far behind it (PETS09's sign, 2.4-3.1 m up on a post 18 m
+    from a camera 7 m high, hides the torsos of people 3-10 m beyond the post); an obstacle above the camera hides
+    no one. A camera standing on the obstacle's footprint (mounted on it) sees past it: no hidden ground.
+    """
+    footprint = blocker.footprint()
+    camera_xy, camera_height = np.asarray(camera_centre[:2], np.float64), float(camera_centre[2])
+    if footprint.contains(Point(camera_xy)):
+        return Polygon()
+    ring = np.asarray(footprint.exterior.coords)[:-1] - camera_xy  # corners relative to the camera's foot
+    reach = np.maximum(np.hypot(ring[:, 0], ring[:, 1]), 1e-6)
+    shadows = []
+    for body in HIDDEN_BODY_HEIGHTS_M:
+        low, high = max(blocker.bottom, body), min(blocker.top, camera_height)
+        if low >= high:
+            continue
+        corners = []
+        for z in (low, high):
+            # a corner at height z lands on the plane `body` at (camera height - body) / (camera height - z) times its
+            # horizontal distance; at the camera's own height never (cut at HIDDEN_REACH_M beyond the corner)
+            scale = (camera_height - body) / (camera_height - z) if camera_height - z > 1e-6 else np.inf
+            corners.append(ring * np.minimum(scale, 1.0 + HIDDEN_REACH_M / reach)[:, None])
+        shadows.append(shapely.MultiPoint(np.concatenate(corners) + camera_xy).convex_hull)
+    if not shadows:
+        return Polygon()
+    # widened after taking the obstacle out, so that standing in front of it, touching it, is not being behind it
+    return shapely.union_all(shadows).difference(footprint).buffer(BODY_HALF_WIDTH_M).difference(footprint)
+
+
+class _UniformPoints:
+    """Points drawn uniformly over a ground area: a triangle of its constrained Delaunay triangulation by area,
+    then a point in it. Nothing is rejected, so a thin wedge (a lamp post's shadow across a region) costs what a
+    compact area does."""
+
+    def __init__(self, area: shapely.Geometry) -> None:
+        polygons = [part for part in shapely.get_parts(area) if part.geom_type == "Polygon" and part.area > 0]
+        triangles = [np.asarray(triangle.exterior.coords)[:3] for polygon in polygons
+                     for triangle in shapely.get_parts(shapely.constrained_delaunay_triangles(polygon))]
+        self.triangles = np.array(triangles, np.float64).reshape(-1, 3, 2)
+        edges = self.triangles[:, 1:] - self.triangles[:, :1]
+        areas = 0.5 * np.abs(edges[:, 0, 0] * edges[:, 1, 1] - edges[:, 0, 1] * edges[:, 1, 0])
+        self.cumulative = np.cumsum(areas) / areas.sum() if len(areas) and areas.sum() > 0 else np.empty(0)
+
+    def __bool__(self) -> bool:
+        return bool(len(self.cumulative))
+
+    def draw(self, rng: np.random.Generator) -> np.ndarray:
+        triangle = self.triangles[min(int(np.searchsorted(self.cumulative, rng.random(), side="right")),
+                                      len(self.triangles) - 1)]
+        u, v = rng.random(2)
+        if u + v > 1.0:  # fold the far half of the parallelogram back onto the triangle
+            u, v = 1.0 - u, 1.0 - v
+        return triangle[0] + u * (triangle[1] - triangle[0]) + v * (triangle[2] - triangle[0])
+
+
 class PlacementSampler:
     """Samples :class:`Placement` s for one region of a scene."""
 
@@ -85,53 +152,37 @@ class PlacementSampler:
                  mix: PlacementMix = PlacementMix()) -> None:
         self.priors, self.mix = priors, mix
         standable = layout.standable_area()
+        near = region_ground.buffer(BORDER_RING_M)
+        # ground hidden by each obstacle near the region; an obstacle is drawn first, then a point behind it, so that
+        # a sign's few square metres are drawn as often as a lamp post's long thin shadow
+        hidden = [hidden_ground(camera.center, blocker).intersection(near).intersection(standable)
+                  for blocker in layout.blockers()]
         self.areas = {
             "region": region_ground.intersection(standable),
-            "border": region_ground.buffer(BORDER_RING_M).difference(region_ground).intersection(standable),
-            "behind_obstacle": self._behind_obstacles(camera, layout, region_ground.buffer(BORDER_RING_M))
-            .intersection(standable),
+            "border": near.difference(region_ground).intersection(standable),
+            "behind_obstacle": shapely.union_all(hidden) if hidden else Polygon(),
         }
-        if self.areas["region"].is_empty:
+        self._points = {kind: [_UniformPoints(self.areas[kind])] for kind in ("region", "border")}
+        self._points["behind_obstacle"] = [_UniformPoints(area) for area in hidden]
+        self._points = {kind: [points for points in samplers if points]
+                        for kind, samplers in self._points.items()}
+        if not self._points["region"]:
             raise ValueError("the region has no standable ground")
-        self._prepared = {kind: area for kind, area in self.areas.items() if not area.is_empty}
-        for area in self._prepared.values():
-            shapely.prepare(area)
         self.standable = standable
         shapely.prepare(self.standable)
 
-    @staticmethod
-    def _behind_obstacles(camera: Camera, layout: Layout, near: shapely.Geometry) -> shapely.Geometry:
-        """Ground just beyond each obstacle's footprint, away from the camera: where it hides people."""
-        centre = camera.center[:2]
-        pieces = []
-        for blocker in layout.blockers():
-            footprint = blocker.footprint()
-            if not footprint.intersects(near):
-                continue
-            away = np.asarray(footprint.centroid.coords[0]) - centre
-            distance = float(np.linalg.norm(away))
-            if distance < 1e-6:
-                continue
-            shift = away / distance * BEHIND_OBSTACLE_M
-            swept = shapely.union_all([shapely.affinity.translate(footprint, *(shift * s)) for s in (0.5, 1.0)])
-            pieces.append(shapely.convex_hull(shapely.union(footprint, swept)).difference(footprint))
-        return shapely.union_all(pieces).intersection(near) if pieces else shapely.Polygon()
-
     def _kind(self, rng: np.random.Generator) -> str:
         draw = rng.random()
-        if draw < self.mix.border and "border" in self._prepared:
+        if draw < self.mix.border and self._points["border"]:
             return "border"
-        if draw < self.mix.border + self.mix.behind_obstacle and "behind_obstacle" in self._prepared:
+        if draw < self.mix.border + self.mix.behind_obstacle and self._points["behind_obstacle"]:
             return "behind_obstacle"
         return "region"
 
-    def _point_in(self, area: shapely.Geometry, rng: np.random.Generator) -> np.ndarray | None:
-        x0, y0, x1, y1 = area.bounds
-        for _ in range(MAX_TRIES):
-            point = rng.uniform([x0, y0], [x1, y1])
-            if area.contains(Point(point)):
-                return point
-        return None
+    def _point(self, kind: str, rng: np.random.Generator) -> np.ndarray:
+        """A point of ``kind``'s ground, uniform over it (behind obstacles: over one obstacle's, drawn first)."""
+        samplers = self._points[kind]
+        return samplers[int(rng.integers(len(samplers))) if len(samplers) > 1 else 0].draw(rng)
 
     def _yaw(self, rng: np.random.Generator) -> float:
         if self.priors.orientation == "uniform":
@@ -170,8 +221,8 @@ class PlacementSampler:
         """A person on free ground, or None after :data:`MAX_TRIES`."""
         for _ in range(MAX_TRIES):
             kind = self._kind(rng)
-            point = self._point_in(self._prepared[kind], rng)
-            if point is not None and self._free(point, placed):
+            point = self._point(kind, rng)
+            if self._free(point, placed):
                 return Placement((float(point[0]), float(point[1])), self._yaw(rng), kind)
         return None
 

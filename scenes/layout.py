@@ -71,6 +71,10 @@ class Box(StrictModel):
     def bottom(self) -> float:
         return self.center[2] - self.size[2] / 2
 
+    @property
+    def top(self) -> float:
+        return self.center[2] + self.size[2] / 2
+
     def corners(self) -> np.ndarray:
         """The 8 corners (8, 3): bottom four counter-clockwise, then the top four."""
         hx, hy, hz = (s / 2 for s in self.size)
@@ -103,6 +107,10 @@ class Cylinder(StrictModel):
     @property
     def bottom(self) -> float:
         return 0.0
+
+    @property
+    def top(self) -> float:
+        return self.height
 
     def footprint(self, segments: int = 24) -> Polygon:
         return shapely.Point(self.base).buffer(self.radius, quad_segs=max(2, segments // 4))
@@ -143,6 +151,10 @@ class Wall(StrictModel):
     @property
     def bottom(self) -> float:
         return 0.0
+
+    @property
+    def top(self) -> float:
+        return self.height
 
     def footprint(self) -> Polygon:
         return LineString([self.start, self.end]).buffer(self.thickness / 2, cap_style="flat")

@@ -5,11 +5,20 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 import shapely
 from shapely.geometry import Point, Polygon
 
 from vc.calibration.camera import Camera, look_at
-from vc.render.placement import BORDER_RING_M, MIN_SEPARATION_M, PlacementSampler, default_max_people
+from vc.render.placement import (
+    BODY_HALF_WIDTH_M,
+    BORDER_RING_M,
+    HIDDEN_BODY_HEIGHTS_M,
+    MIN_SEPARATION_M,
+    PlacementSampler,
+    default_max_people,
+    hidden_ground,
+)
 from vc.scenes.layout import Box, Layout
 from vc.scenes.schema import Priors, VonMises
 
@@ -38,13 +47,61 @@ def test_people_stand_on_standable_ground_near_the_region_and_apart() -> None:
     assert kinds == {"region", "border", "behind_obstacle"}
 
 
-def test_behind_obstacle_means_beyond_it_as_seen_from_the_camera() -> None:
-    sampler = PlacementSampler(CAMERA, LAYOUT, REGION, Priors())
-    area = sampler.areas["behind_obstacle"]
-    assert not area.is_empty
-    # The camera is at y = -12 looking at +y: the hidden ground lies beyond the box (y > 0.5).
-    assert area.bounds[1] >= 0.5 - 1e-6
-    assert shapely.distance(area, LAYOUT.obstacles[0].footprint()) < 1e-6
+def _hidden_body_height(camera_centre: np.ndarray, box: Box, feet: np.ndarray) -> bool:
+    """Whether the segment from the camera to one of the body heights above ``feet`` passes through the
+    axis-aligned ``box`` (slab test): the ground truth that :func:`hidden_ground` approximates."""
+    low, high = np.asarray(box.center) - np.asarray(box.size) / 2, np.asarray(box.center) + np.asarray(box.size) / 2
+    for body in HIDDEN_BODY_HEIGHTS_M:
+        direction = np.array([*feet, body]) - camera_centre
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t0, t1 = (low - camera_centre) / direction, (high - camera_centre) / direction
+        enter, leave = np.nanmax(np.minimum(t0, t1)), np.nanmin(np.maximum(t0, t1))
+        if enter <= leave and leave > 0 and enter < 1:
+            return True
+    return False
+
+
+@pytest.mark.parametrize("box", [Box(type="box", center=[0.0, 0.0, 0.5], size=[1.0, 1.0, 1.0]),
+                                 Box(type="box", center=[0.0, 0.0, 2.75], size=[0.6, 0.1, 0.7])],
+                         ids=["on the ground", "raised sign"])
+def test_hidden_ground_is_where_the_obstacle_hides_part_of_a_standing_person(box: Box) -> None:
+    centre = CAMERA.center
+    area = hidden_ground(centre, box)
+    xs, ys = np.meshgrid(np.arange(-3.0, 3.0, 0.1), np.arange(-3.0, 12.0, 0.1))
+    grid = np.c_[xs.ravel(), ys.ravel()]
+    hidden = np.array([_hidden_body_height(centre, box, point) for point in grid])
+    outside = ~shapely.contains_xy(box.footprint(), grid[:, 0], grid[:, 1])
+    inside = shapely.contains_xy(area, grid[:, 0], grid[:, 1])
+    # every feet position with a body height hidden is in the area...
+    assert hidden[outside].sum() > 20 and inside[hidden & outside].all()
+    # ...and the area reaches no further than half a body's width from one (or from the obstacle itself)
+    hidden_points = shapely.MultiPoint(grid[hidden])
+    assert all(shapely.distance(hidden_points, Point(point)) <= BODY_HALF_WIDTH_M + 0.15 for point in grid[inside])
+
+
+def test_a_raised_sign_hides_people_metres_behind_it_and_not_right_behind() -> None:
+    sign = Box(type="box", center=[0.0, 0.0, 2.75], size=[0.6, 0.1, 0.7])  # camera 6 m up, 12 m away
+    area = hidden_ground(CAMERA.center, sign)
+    # the sign's bottom edge (2.4 m) falls on a head (1.55 m) 2.8 m beyond it, its top on the shins 11.7 m beyond
+    assert 2.3 < area.bounds[1] < 3.0 and 11.4 < area.bounds[3] < 12.2
+
+
+def test_nothing_is_hidden_by_an_obstacle_above_the_camera_or_holding_it() -> None:
+    canopy = Box(type="box", center=[0.0, 0.0, 7.0], size=[2.0, 2.0, 1.0])  # above the camera's 6 m
+    assert hidden_ground(CAMERA.center, canopy).is_empty
+    mast = Box(type="box", center=[0.0, -12.0, 3.0], size=[0.5, 0.5, 6.0])  # the camera is mounted on it
+    assert hidden_ground(CAMERA.center, mast).is_empty
+
+
+def test_people_are_drawn_behind_each_obstacle_in_turn() -> None:
+    sign = Box(type="box", center=[2.0, 0.0, 2.75], size=[0.6, 0.1, 0.7])
+    layout = Layout(walkable=LAYOUT.walkable, obstacles=[*LAYOUT.obstacles, sign])
+    sampler = PlacementSampler(CAMERA, layout, REGION, Priors())
+    rng = np.random.default_rng(3)
+    points = np.array([sampler._point("behind_obstacle", rng) for _ in range(400)])
+    behind = [shapely.contains_xy(hidden_ground(CAMERA.center, obstacle), points[:, 0], points[:, 1]).mean()
+              for obstacle in layout.obstacles]
+    assert all(0.35 < share < 0.65 for share in behind), behind
 
 
 def test_orientation_follows_a_von_mises_prior() -> None:
