@@ -5,6 +5,11 @@
    ``min_centre_separation`` expected heights to a stronger one is that person's blurred peak, not another.
    Asked for weak people (``weak_above``), the peaks down to that value are decoded too, flagged ``weak``, for a
    tracker to continue tracks with; they take no mask cells or keypoint peaks from the others.
+   1b. From a network with centre offsets, each mask cell above ``mask_threshold`` votes for the centre of the
+   person it belongs to (cell + offset x expected height). Votes that no centre of step 1 claims (within
+   ``min_centre_separation``) and that gather at least ``vote_support`` of a person's pixels around one point are
+   a person the centre map merged into a neighbour's peak, or blurred between people: a peak few pixels vote for
+   moves there, else they are added at their votes' mean, scored by the centre map there.
 2. Each keypoint is the maximum of its map weighted by a Gaussian prior around where that keypoint sits on an
    upright person (:data:`UPRIGHT_OFFSETS`, scaled by the person's expected height): a neighbour's ankle, even
    if nearer to this centre, loses to this person's own. At most ``max_people`` peaks are decoded. Pairs come
@@ -13,7 +18,8 @@
    2b. With ``exclusive_keypoints``, the candidates are the local maxima of each keypoint map instead of every
    cell, and they are shared out greedily, best prior-weighted value first: a peak goes to one person only, so
    two people side by side never both take the stronger one's wrist.
-3. The mask cells above ``mask_threshold`` go to the nearest centre (in units of expected height).
+3. The mask cells above ``mask_threshold`` go to the nearest centre (in units of expected height); with centre
+   offsets, to the centre nearest the one they vote for.
 4. The box is scene-specific: its top and bottom are the person's own head and feet where their keypoints are
    confident and agree with the expected height of a person at that image position (the region's camera knows
    it; ``expected_height_px``), else that expected height centred on the centre peak (the point half the stature
@@ -31,10 +37,12 @@ import numpy as np
 from vc.deploy.heatmaps import (
     ANATOMICAL_CHANNELS,
     CENTRE_CHANNEL,
+    CENTRE_OFFSET_CHANNELS,
     HANDEDNESS_CHANNELS,
-    HEATMAP_CHANNELS,
     KEYPOINT_CHANNELS,
+    LAYOUTS,
     MASK_CHANNEL,
+    OFFSET_CHANNELS,
     cells_to_input,
     swap_pairs,
 )
@@ -47,6 +55,12 @@ from vc.keypoints import COCO_KEYPOINTS
 #: centre peak lies within 0.01 heights of the box centre (benchmarks/results/box_extent.md).
 UPRIGHT_OFFSETS = np.array([-0.415, -0.435, -0.435, -0.425, -0.425, -0.305, -0.305, -0.155, -0.155, -0.02, -0.02,
                             -0.015, -0.015, 0.2, 0.2, 0.415, 0.415])
+#: The mask area of an upright person, in squared person heights: about half of a box 0.37 heights wide (COCO
+#: pedestrians' masks fill about half their boxes). It turns a cluster of votes into a share of one person.
+PERSON_AREA = 0.18
+#: A centre peak that few pixels vote for, this close (person heights) to where votes put a person, is the blur of
+#: the people around it (step 1b): two people side by side blur into a peak about a quarter height from each.
+MERGED_PEAK_REACH = 0.5
 #: The lower of a person's two ankles, measured likewise (median 0.437 and 0.439): the planted foot's, which the
 #: box's bottom follows (the other foot swings up to 0.1 heights higher).
 LOWER_ANKLE_OFFSET = 0.44
@@ -89,6 +103,9 @@ class DecodeConfig:
     # map's value there as its confidence.
     exclusive_keypoints: bool = False
     keypoint_peak_floor: float = 0.05
+    # Step 1b (networks with centre offsets): the share of a person's pixels (PERSON_AREA) whose unclaimed votes
+    # make one more person.
+    vote_support: float = 0.3
 
 
 
@@ -161,40 +178,60 @@ def find_peaks(heatmap: np.ndarray, threshold: float, limit: int | None = None) 
 
 def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
            expected_height_px: np.ndarray | None = None, weak_above: float | None = None) -> list[DecodedPerson]:
-    """People in one sample's heat maps (C, h, w), C = ``HEATMAP_CHANNELS`` or, from networks trained before the
-    handedness maps, ``ANATOMICAL_CHANNELS``. ``expected_height_px`` (h, w): the pixel height of a person whose
-    centre is at each cell, from the region's camera; None falls back to ``config.default_height_px``.
+    """People in one sample's heat maps (C, h, w), C one of the :data:`~vc.deploy.heatmaps.LAYOUTS`: with or
+    without centre offsets, or, from networks trained before the handedness maps, ``ANATOMICAL_CHANNELS``.
+    ``expected_height_px`` (h, w): the pixel height of a person whose centre is at each cell, from the region's
+    camera; None falls back to ``config.default_height_px``.
 
     ``weak_above`` (below ``config.centre_threshold``): the centre peaks down to it are decoded too, as ``weak``
     people (for a tracker: :mod:`vc.deploy.tracking`). They take no mask cells or keypoint peaks from the others,
     which come out as they would without them."""
     stride = config.stride
     channels, height, width = heatmaps.shape
-    if channels not in (HEATMAP_CHANNELS, ANATOMICAL_CHANNELS):
-        raise ValueError(f"heat maps have {channels} channels; a ScenePoseNet emits {HEATMAP_CHANNELS} (or "
-                         f"{ANATOMICAL_CHANNELS} before handedness maps)")
-    image_ordered = channels == HEATMAP_CHANNELS
+    if channels not in LAYOUTS:
+        raise ValueError(f"heat maps have {channels} channels; a ScenePoseNet emits one of the layouts {LAYOUTS}")
+    image_ordered = channels != ANATOMICAL_CHANNELS
+
+    def heights_px_at(xy_cells: np.ndarray) -> np.ndarray:
+        if expected_height_px is None:
+            return np.full(len(xy_cells), config.default_height_px)
+        rows = np.clip(np.round(xy_cells[:, 1]).astype(int), 0, height - 1)
+        return expected_height_px[rows, np.clip(np.round(xy_cells[:, 0]).astype(int), 0, width - 1)].astype(float)
+
     floor = config.centre_threshold if weak_above is None else min(weak_above, config.centre_threshold)
     peaks = find_peaks(heatmaps[CENTRE_CHANNEL], floor, config.max_people)
+    centres_cells = np.array([centre for _, centre in peaks]).reshape(-1, 2)
+    keep = _separated(centres_cells, heights_px_at(centres_cells) / stride, config.min_centre_separation)
+    peaks, centres_cells = [peaks[i] for i in keep], centres_cells[keep]
+
+    mask = heatmaps[MASK_CHANNEL]
+    mask_rows, mask_columns = np.nonzero(mask > config.mask_threshold)
+    # Where each foreground cell says its person's centre is (step 1b); without offsets, the cell itself.
+    voted = np.column_stack([mask_columns, mask_rows]).astype(np.float64)
+    if channels == OFFSET_CHANNELS and len(voted):
+        offsets = heatmaps[CENTRE_OFFSET_CHANNELS][:, mask_rows, mask_columns].T  # (M, 2) in person heights
+        voted += offsets * (heights_px_at(voted) / stride)[:, None]
+        moved, added = _vote_centres(voted, mask[mask_rows, mask_columns], heights_px_at(voted) / stride,
+                                     (height, width), centres_cells, heights_px_at(centres_cells) / stride, config)
+        for index, centre in moved.items():
+            peaks[index], centres_cells[index] = (peaks[index][0], centre), centre
+        for centre in added:
+            row, column = np.clip(np.round(centre[::-1]).astype(int), 0, [height - 1, width - 1])
+            if heatmaps[CENTRE_CHANNEL, row, column] >= floor and len(peaks) < config.max_people:
+                peaks.append((float(heatmaps[CENTRE_CHANNEL, row, column]), centre))
+                centres_cells = np.vstack([centres_cells, centre])
     if not peaks:
         return []
-    centres_cells = np.array([centre for _, centre in peaks])
-    heights_px = np.array([
-        config.default_height_px if expected_height_px is None
-        else float(expected_height_px[int(round(y)), int(round(x))]) for x, y in centres_cells])
+    heights_px = heights_px_at(centres_cells)
     heights_cells = heights_px / stride
-    keep = _separated(centres_cells, heights_cells, config.min_centre_separation)
-    peaks, centres_cells = [peaks[i] for i in keep], centres_cells[keep]
-    heights_px, heights_cells = heights_px[keep], heights_cells[keep]
 
     strong = np.array([score >= config.centre_threshold for score, _ in peaks])
 
-    # Mask cells go to the nearest centre, distance measured in expected heights (a strong person's, to the
-    # nearest strong centre: weak people take nothing from them). Only foreground cells are owned, so only they
+    # Mask cells go to the centre nearest their vote, distance measured in expected heights (a strong person's, to
+    # the nearest strong centre: weak people take nothing from them). Only foreground cells are owned, so only they
     # are measured: a frame's people cover a small part of it.
-    mask_rows, mask_columns = np.nonzero(heatmaps[MASK_CHANNEL] > config.mask_threshold)
-    scaled = np.hypot(mask_columns[None] - centres_cells[:, 0, None],
-                      mask_rows[None] - centres_cells[:, 1, None]) / heights_cells[:, None]  # (N, foreground cells)
+    scaled = np.hypot(voted[None, :, 0] - centres_cells[:, 0, None],
+                      voted[None, :, 1] - centres_cells[:, 1, None]) / heights_cells[:, None]  # (N, foreground cells)
     owner = np.argmin(scaled, axis=0)
     strong_indices = np.flatnonzero(strong)
     owner_among_strong = strong_indices[np.argmin(scaled[strong_indices], axis=0)] if len(strong_indices) else owner
@@ -324,6 +361,65 @@ def _exclusive_keypoints(keypoint_maps: np.ndarray, centres_cells: np.ndarray, h
             keypoints[person, channel] = (*cells_to_input(expected[person, channel], config.stride),
                                           keypoint_maps[channel, row, column])
     return keypoints
+
+
+def _vote_centres(voted: np.ndarray, weights: np.ndarray, vote_heights: np.ndarray, shape: tuple[int, int],
+                  peaks: np.ndarray, peak_heights: np.ndarray,
+                  config: DecodeConfig) -> tuple[dict[int, np.ndarray], list[np.ndarray]]:
+    """Step 1b: where the pixels' votes put people that the centre peaks miss. ``voted`` (M, 2) are the voted
+    centres of the foreground cells, ``weights`` their mask values, ``vote_heights`` the expected height (cells) at
+    each vote, ``shape`` the map's; ``peaks`` (N, 2) the centre peaks, ``peak_heights`` theirs.
+
+    Votes within ``min_centre_separation`` heights of a peak are that peak's. The rest are summed on the map, each
+    as its share of one person's pixels (:data:`PERSON_AREA`), over windows of that separation (at the votes' median
+    height): the heaviest window, if it holds at least ``vote_support`` of a person, is a person at its votes'
+    weighted mean; its votes leave the map, and the next heaviest is weighed, at most ``max_people`` times
+    (summed-area tables keep each round linear in the map's size, however many votes there are).
+
+    A peak that few pixels vote for (less than ``vote_support``), within :data:`MERGED_PEAK_REACH` of such a
+    person, is the blur of people around it: it moves to the first of them (keeping its score), and the others are
+    added. Returns the moved peaks (index -> centre) and the added centres, in cells.
+    """
+    height, width = shape
+    share = weights / (PERSON_AREA * vote_heights**2)  # each vote's share of one person's pixels
+    distances = np.hypot(voted[:, None, 0] - peaks[None, :, 0], voted[:, None, 1] - peaks[None, :, 1])  # (M, N)
+    claims = distances <= config.min_centre_separation * peak_heights[None]
+    unsupported = share @ claims < config.vote_support  # (N,): peaks that few pixels vote for
+    cells = np.round(voted).astype(int)
+    free = ~claims.any(axis=1) & (cells[:, 0] >= 0) & (cells[:, 0] < width) & (cells[:, 1] >= 0) & (
+        cells[:, 1] < height)
+    moved: dict[int, np.ndarray] = {}
+    added: list[np.ndarray] = []
+    if not free.any():
+        return moved, added
+    radius = max(1, int(round(config.min_centre_separation * float(np.median(vote_heights[free])))))
+    votes_map = np.zeros(shape)
+    np.add.at(votes_map, (cells[free, 1], cells[free, 0]), share[free])
+    for _ in range(config.max_people):
+        support = _window_sums(votes_map, radius)
+        row, column = np.unravel_index(int(np.argmax(support)), shape)
+        if support[row, column] < config.vote_support:
+            break
+        members = free & (np.abs(cells[:, 0] - column) <= radius) & (np.abs(cells[:, 1] - row) <= radius)
+        centre = np.average(voted[members], axis=0, weights=share[members])
+        np.add.at(votes_map, (cells[members, 1], cells[members, 0]), -share[members])
+        free &= ~members
+        reach = np.hypot(*(peaks - centre).T) / peak_heights  # (N,) in heights
+        blurs = np.flatnonzero(unsupported & (reach <= MERGED_PEAK_REACH))
+        blurs = [index for index in blurs[np.argsort(reach[blurs], kind="stable")] if index not in moved]
+        if blurs:
+            moved[blurs[0]] = centre
+        else:
+            added.append(centre)
+    return moved, added
+
+
+def _window_sums(grid: np.ndarray, radius: int) -> np.ndarray:
+    """The sum of ``grid`` over the (2 radius + 1)^2 window around each cell (zeros beyond the border), from a
+    summed-area table."""
+    side = 2 * radius + 1
+    table = np.pad(np.pad(grid, radius).cumsum(axis=0).cumsum(axis=1), ((1, 0), (1, 0)))
+    return table[side:, side:] - table[:-side, side:] - table[side:, :-side] + table[:-side, :-side]
 
 
 def _separated(centres_cells: np.ndarray, heights_cells: np.ndarray, separation: float) -> list[int]:

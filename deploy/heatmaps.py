@@ -4,7 +4,8 @@ One place for both directions so that target encoding (``vc.model.codec``) and d
 can never disagree. Channels (:data:`CHANNEL_NAMES`): the person centre; the 17 COCO keypoints in COCO order,
 except that each left/right pair (:data:`PAIRS`) is in image order, its first map holding whichever member lies
 further left in the image; the segmentation mask; one handedness map per pair, +1 over a person's pixels where
-the pair's image-left member is the person's left one, -1 where it is the right one.
+the pair's image-left member is the person's left one, -1 where it is the right one; in networks trained with
+them, the two centre-offset maps (:data:`CENTRE_OFFSET_CHANNELS`).
 
 Why image order: a wrist looks like a wrist, so which wrist it is cannot be seen where it is. Asked for anatomical
 maps, the network hedges and puts both limbs in both maps (on the demo scene 99 % of the pairs that lie apart
@@ -35,6 +36,15 @@ PAIRS: tuple[tuple[int, int], ...] = tuple(
 HANDEDNESS_CHANNELS = slice(MASK_CHANNEL + 1, MASK_CHANNEL + 1 + len(PAIRS))
 HEATMAP_CHANNELS = HANDEDNESS_CHANNELS.stop
 ANATOMICAL_CHANNELS = MASK_CHANNEL + 1
+#: Two maps after the handedness ones, in networks trained to emit them: over each person's pixels, the (x, y) from
+#: the cell to that person's own centre, in the person's heights. Every pixel votes for the person it belongs to,
+#: so two people in one blob of the centre map are two clusters of votes (the centre offsets of Panoptic-DeepLab,
+#: Cheng et al., CVPR 2020), and a person's mask is the pixels that vote for them.
+CENTRE_OFFSET_CHANNELS = slice(HEATMAP_CHANNELS, HEATMAP_CHANNELS + 2)
+OFFSET_CHANNELS = CENTRE_OFFSET_CHANNELS.stop
+#: Every layout a network emits, by its channel count: anatomical pairs (before handedness), image-ordered pairs
+#: with handedness, and those with the centre offsets.
+LAYOUTS = (ANATOMICAL_CHANNELS, HEATMAP_CHANNELS, OFFSET_CHANNELS)
 
 
 def swap_pairs(keypoints: np.ndarray, swapped) -> np.ndarray:
@@ -51,13 +61,14 @@ def channel_names(channels: int = HEATMAP_CHANNELS) -> tuple[str, ...]:
     """What each map of a network's output holds (written into bundles), for either layout."""
     if channels == ANATOMICAL_CHANNELS:
         return ("centre", *COCO_KEYPOINTS, "mask")
-    if channels != HEATMAP_CHANNELS:
+    if channels not in LAYOUTS:
         raise ValueError(f"no heat-map layout has {channels} channels")
     slots = [name.replace("left_", "").replace("right_", "") + ("_image_left" if name.startswith("left_") else
                                                                   "_image_right" if name.startswith("right_") else "")
              for name in COCO_KEYPOINTS]
     handedness = [COCO_KEYPOINTS[left].removeprefix("left_") + "_handedness" for left, _ in PAIRS]
-    return ("centre", *slots, "mask", *handedness)
+    offsets = ("centre_offset_x", "centre_offset_y") if channels == OFFSET_CHANNELS else ()
+    return ("centre", *slots, "mask", *handedness, *offsets)
 
 
 def input_to_cells(xy: np.ndarray, stride: int) -> np.ndarray:

@@ -10,6 +10,9 @@ network, as mmpose keeps its codecs).
 * Handedness: per pair, +1 (left is image-left) or -1 times the fraction of each cell covered by that person
   (its ``instance_id`` in the instance mask); 0 elsewhere. Annotations without the flags get no handedness and
   keep their pairs in anatomical order.
+* Centre offsets (with ``centre_offsets``): over each cell that people cover, the (x, y) from the cell to the
+  centre of the person covering most of it, in that person's heights; 0 elsewhere. The loss weighs them by the
+  mask, which is 0 where they mean nothing (:mod:`vc.model.loss`).
 
 Several people combine by maximum (Gaussians) so that neighbours do not merge into one peak. Decoding lives in
 :mod:`vc.deploy.decode` and uses the same cell geometry (:mod:`vc.deploy.heatmaps`).
@@ -24,10 +27,12 @@ import numpy as np
 from vc.calibration.camera import Camera
 from vc.deploy.heatmaps import (
     CENTRE_CHANNEL,
+    CENTRE_OFFSET_CHANNELS,
     HANDEDNESS_CHANNELS,
     HEATMAP_CHANNELS,
     KEYPOINT_CHANNELS,
     MASK_CHANNEL,
+    OFFSET_CHANNELS,
     cells_to_input,
     input_to_cells,
     swap_pairs,
@@ -46,6 +51,13 @@ class CodecConfig:
     centre_sigma: float = 0.08  # centre Gaussian sigma, as a fraction of the person's height (input px)
     keypoint_sigma: float = 0.025  # keypoint Gaussian sigma, as a fraction of the person's height
     min_sigma_cells: float = 0.75  # no Gaussian narrower than this many cells (tiny people stay learnable)
+    # Also draw the centre-offset maps (vc.deploy.heatmaps.CENTRE_OFFSET_CHANNELS); the network then emits them.
+    centre_offsets: bool = False
+
+    @property
+    def channels(self) -> int:
+        """The number of maps :func:`encode` draws: the network's output layout."""
+        return OFFSET_CHANNELS if self.centre_offsets else HEATMAP_CHANNELS
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -78,14 +90,14 @@ def person_height_px(annotation: dict) -> float:
 
 
 def encode(annotations: list[dict], instances: np.ndarray, config: CodecConfig = CodecConfig()) -> np.ndarray:
-    """Heat maps (HEATMAP_CHANNELS, H/stride, W/stride) float32 for one sample: its annotations and (H, W)
+    """Heat maps (config.channels, H/stride, W/stride) float32 for one sample: its annotations and (H, W)
     instance mask."""
     height, width = instances.shape
     stride = config.stride
     if height % stride or width % stride:
         raise ValueError(f"input {width}x{height} is not a multiple of the output stride {stride}")
     cells = (height // stride, width // stride)
-    heatmaps = np.zeros((HEATMAP_CHANNELS, *cells), np.float32)
+    heatmaps = np.zeros((config.channels, *cells), np.float32)
     for annotation in annotations:
         size_cells = person_height_px(annotation) / stride
         if annotation.get("center") is not None:
@@ -102,14 +114,37 @@ def encode(annotations: list[dict], instances: np.ndarray, config: CodecConfig =
                             input_to_cells(keypoints[labelled, :2], stride), sigma)
     covered = (instances > 0).astype(np.float32)
     heatmaps[MASK_CHANNEL] = covered.reshape(cells[0], stride, cells[1], stride).mean(axis=(1, 3))
+    coverages = {}  # each person's share of each cell, for the maps drawn over their pixels
+    for annotation in annotations:
+        if annotation.get("left_is_image_left") is not None or config.centre_offsets:
+            coverages[id(annotation)] = (instances == annotation["instance_id"]).reshape(
+                cells[0], stride, cells[1], stride).mean(axis=(1, 3), dtype=np.float32)
     for annotation in annotations:
         if annotation.get("left_is_image_left") is None:
             continue
-        coverage = (instances == annotation["instance_id"]).reshape(cells[0], stride, cells[1], stride).mean(
-            axis=(1, 3), dtype=np.float32)
         sign = np.where(annotation["left_is_image_left"], 1.0, -1.0).astype(np.float32)
-        heatmaps[HANDEDNESS_CHANNELS] += coverage[None] * sign[:, None, None]
+        heatmaps[HANDEDNESS_CHANNELS] += coverages[id(annotation)][None] * sign[:, None, None]
+    if config.centre_offsets:
+        _draw_centre_offsets(heatmaps[CENTRE_OFFSET_CHANNELS], annotations, coverages, stride)
     return heatmaps
+
+
+def _draw_centre_offsets(offsets: np.ndarray, annotations: list[dict], coverages: dict[int, np.ndarray],
+                         stride: int) -> None:
+    """Fill ``offsets`` (2, h, w): at each cell, (centre - cell) / height (cells) of the person who covers most of
+    it. People without a centre (none projected) cover their cells without an offset to learn (0, as off people)."""
+    centred = [annotation for annotation in annotations if annotation.get("center") is not None]
+    if not centred:
+        return
+    shares = np.stack([coverages[id(annotation)] for annotation in centred])  # (N, h, w)
+    owner = shares.argmax(axis=0)
+    owned = shares.max(axis=0) > 0
+    centres = input_to_cells(np.array([annotation["center"] for annotation in centred]), stride)  # (N, 2)
+    heights = np.array([person_height_px(annotation) / stride for annotation in centred])  # (N,)
+    rows, columns = np.nonzero(owned)
+    people = owner[rows, columns]
+    offsets[0, rows, columns] = (centres[people, 0] - columns) / heights[people]
+    offsets[1, rows, columns] = (centres[people, 1] - rows) / heights[people]
 
 
 def expected_height_map(camera: Camera, stride: int, height_m: float) -> np.ndarray:

@@ -16,7 +16,7 @@ from pydantic import TypeAdapter
 
 # The output heat maps' layout (centre, 17 COCO keypoints, mask, handedness) is the decoder's: one definition,
 # in deploy.
-from vc.deploy.heatmaps import ANATOMICAL_CHANNELS, HEATMAP_CHANNELS
+from vc.deploy.heatmaps import ANATOMICAL_CHANNELS, HEATMAP_CHANNELS, LAYOUTS
 
 __all__ = ["ANATOMICAL_CHANNELS", "DEFAULT_ARCH", "HEATMAP_CHANNELS", "PRESETS", "STEMS", "STEM_STRIDES",
            "NetworkConfig", "network_config"]
@@ -53,7 +53,7 @@ class NetworkConfig:
     # bottleneck whose one k x k runs at width/r channels (He et al., 2016), about 2r^2 times cheaper
     sb_separable: bool = False  # SB large kernels as a dense k x 1 then 1 x k (same window, 2/k of the cost)
     belief_channels: int = HEATMAP_CHANNELS  # belief maps each SB unit emits through its 1x1 path
-    heatmap_channels: int = HEATMAP_CHANNELS  # output maps; ANATOMICAL_CHANNELS for networks from before handedness
+    heatmap_channels: int = HEATMAP_CHANNELS  # output maps, one of LAYOUTS (ANATOMICAL_CHANNELS: before handedness)
     stem: Literal["conv", "patch"] = "conv"  # see STEMS
 
     def __post_init__(self) -> None:
@@ -72,9 +72,9 @@ class NetworkConfig:
             problems.append("a patch stem needs stem_stride 2 or 4 (patches of 1 pixel would be a 1x1 convolution)")
         if self.sb_separable and self.sb_depthwise:
             problems.append("sb_separable and sb_depthwise are two ways to factor the same kernel: choose one")
-        if self.heatmap_channels not in (HEATMAP_CHANNELS, ANATOMICAL_CHANNELS):
-            problems.append(f"heatmap_channels must be {HEATMAP_CHANNELS} (or {ANATOMICAL_CHANNELS} before "
-                            f"handedness maps), got {self.heatmap_channels}")
+        if self.heatmap_channels not in LAYOUTS:
+            problems.append(f"heatmap_channels must be one of the layouts {LAYOUTS} (vc.deploy.heatmaps), got "
+                            f"{self.heatmap_channels}")
         if self.intermediate_supervision and self.belief_channels != self.heatmap_channels:
             problems.append(f"intermediate supervision compares beliefs with the {self.heatmap_channels} target heat "
                             f"maps, so belief_channels must be {self.heatmap_channels}, got {self.belief_channels}")

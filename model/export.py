@@ -134,6 +134,10 @@ def bundle_files(run: Path, precision: str = "fp32", eval_samples: int = 200, ca
     checkpoints = _finished_checkpoints(run)
     first = checkpoints[0].content
     first_config = checkpoints[0].config
+    layouts = {checkpoint.content["region"]: checkpoint.config.network.heatmap_channels for checkpoint in checkpoints}
+    if len(set(layouts.values())) > 1:  # the manifest names one output layout for every region
+        raise InputError(run, "checkpoints", f"the regions emit different heat-map layouts ({layouts} maps: some "
+                                             f"trained with centre offsets, some without); train them alike")
     files: dict[str, bytes] = {}
     regions = []
     for checkpoint in checkpoints:

@@ -1,6 +1,8 @@
 """The paper's loss: alpha * MSE(detection) + beta * mean MSE(pose) + gamma * MSE(segmentation), plus
 delta * mean MSE(handedness) for the maps that tell which member of each keypoint pair is the left one
-(:mod:`vc.deploy.heatmaps`).
+(:mod:`vc.deploy.heatmaps`), and, for networks that emit them, epsilon times the centre offsets' L1 error weighed
+by the target mask (an offset means something only on a person's pixels; L1, as in Panoptic-DeepLab, so that the
+cells on the border between two people, whose owner is a coin toss, do not dominate).
 
 Each term is a mean squared error over its heat-map pixels (the pose and handedness terms the mean over their
 maps).
@@ -15,7 +17,14 @@ from dataclasses import asdict, dataclass
 import torch
 from torch import Tensor
 
-from vc.deploy.heatmaps import CENTRE_CHANNEL, HANDEDNESS_CHANNELS, KEYPOINT_CHANNELS, MASK_CHANNEL
+from vc.deploy.heatmaps import (
+    CENTRE_CHANNEL,
+    CENTRE_OFFSET_CHANNELS,
+    HANDEDNESS_CHANNELS,
+    KEYPOINT_CHANNELS,
+    MASK_CHANNEL,
+    OFFSET_CHANNELS,
+)
 
 
 @dataclass(frozen=True)
@@ -33,6 +42,9 @@ class LossWeights:
     pose: float = 10.0
     segmentation: float = 1.0
     handedness: float = 1.0
+    # The offsets' L1 over a person's cells is about their error in heights (0.05: a cell of an 80 px person) times
+    # the share of cells people cover, the size of the other terms' MSE once trained.
+    centre_offsets: float = 1.0
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -42,11 +54,15 @@ def heatmap_terms(prediction: Tensor, targets: Tensor) -> dict[str, Tensor]:
     """The MSE terms of one prediction (B, HEATMAP_CHANNELS, h, w) against its targets (same shape), unweighted."""
     if prediction.shape != targets.shape:
         raise ValueError(f"prediction {tuple(prediction.shape)} and targets {tuple(targets.shape)} differ in shape")
-    squared = (prediction - targets).square()
-    return {"detection": squared[:, CENTRE_CHANNEL].mean(),
-            "pose": squared[:, KEYPOINT_CHANNELS].mean(),  # = mean over keypoints of each map's MSE
-            "segmentation": squared[:, MASK_CHANNEL].mean(),
-            "handedness": squared[:, HANDEDNESS_CHANNELS].mean()}
+    squared = (prediction[:, :CENTRE_OFFSET_CHANNELS.start] - targets[:, :CENTRE_OFFSET_CHANNELS.start]).square()
+    terms = {"detection": squared[:, CENTRE_CHANNEL].mean(),
+             "pose": squared[:, KEYPOINT_CHANNELS].mean(),  # = mean over keypoints of each map's MSE
+             "segmentation": squared[:, MASK_CHANNEL].mean(),
+             "handedness": squared[:, HANDEDNESS_CHANNELS].mean()}
+    if prediction.shape[1] == OFFSET_CHANNELS:
+        error = (prediction[:, CENTRE_OFFSET_CHANNELS] - targets[:, CENTRE_OFFSET_CHANNELS]).abs()
+        terms["centre_offsets"] = (error * targets[:, MASK_CHANNEL, None]).mean()
+    return terms
 
 
 def scene_pose_loss(outputs: dict[str, Tensor | list[Tensor]], targets: Tensor,
@@ -60,7 +76,8 @@ def scene_pose_loss(outputs: dict[str, Tensor | list[Tensor]], targets: Tensor,
     for stage, prediction in enumerate([*outputs["beliefs"], outputs["heatmaps"]]):
         terms = heatmap_terms(prediction, targets)
         total = total + (weights.detection * terms["detection"] + weights.pose * terms["pose"]
-                         + weights.segmentation * terms["segmentation"] + weights.handedness * terms["handedness"])
+                         + weights.segmentation * terms["segmentation"] + weights.handedness * terms["handedness"]
+                         + weights.centre_offsets * terms.get("centre_offsets", 0.0))
         if stage == len(outputs["beliefs"]):
             final_terms = terms
     return total, {name: float(value.detach()) for name, value in final_terms.items()}

@@ -21,6 +21,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from vc.errors import InputError
 from vc.io import atomic_path
+from vc.model.codec import CodecConfig
 from vc.model.config import DEFAULT_ARCH, network_config
 from vc.model.config import PRESETS as NETWORK_PRESETS
 from vc.model.train import TrainConfig, centre_map_settings, native_bf16
@@ -69,6 +70,8 @@ class TrainSettings(_Section):
     centre_sigma: float | None = Field(None, gt=0.0, le=0.5,
                                        description="the centre map's Gaussian, in person heights (None: the codec's); "
                                                    "sharper lets people one behind another keep two peaks")
+    centre_offsets: bool = Field(False, description="also learn, at each person pixel, where that person's centre "
+                                                    "is: the decoder splits people in one blob by their pixels' votes")
 
     def train_config(self) -> TrainConfig:
         """The full training config; a width or SB count the network cannot take is bad input."""
@@ -81,6 +84,8 @@ class TrainSettings(_Section):
         bf16 = native_bf16() if self.bf16_autocast == "auto" else self.bf16_autocast
         channels_last = bf16 if self.channels_last == "auto" else self.channels_last
         centre = {} if self.centre_sigma is None else centre_map_settings(self.centre_sigma)
+        if self.centre_offsets:
+            centre["codec"] = replace(centre.get("codec", CodecConfig()), centre_offsets=True)
         return TrainConfig(network=network, steps=self.steps, batch_size=self.batch_size, seed=self.seed,
                            bf16_autocast=bf16, channels_last=channels_last, **centre)
 

@@ -15,10 +15,12 @@ from vc.deploy.decode import DecodeConfig, _keypoints, decode, find_peaks
 from vc.deploy.heatmaps import (
     ANATOMICAL_CHANNELS,
     CENTRE_CHANNEL,
+    CENTRE_OFFSET_CHANNELS,
     HANDEDNESS_CHANNELS,
     HEATMAP_CHANNELS,
     KEYPOINT_CHANNELS,
     MASK_CHANNEL,
+    OFFSET_CHANNELS,
     PAIRS,
     cells_to_input,
     input_to_cells,
@@ -283,3 +285,57 @@ def test_weak_people_are_decoded_when_asked_and_take_nothing_from_the_others(exc
     assert weak.score < config.centre_threshold and abs(weak.centre[0] - right["center"][0]) < 2.0
     (above,) = decode(heatmaps, config, heights, weak_above=0.5)  # above the threshold: nobody weak
     assert not above.weak and np.allclose(above.box, alone[0].box)
+
+
+def test_centre_offsets_point_every_person_pixel_to_its_own_centre() -> None:
+    instances = _instances(PEOPLE)
+    heatmaps = encode(PEOPLE, instances, CodecConfig(stride=STRIDE, centre_offsets=True))
+    assert heatmaps.shape[0] == OFFSET_CHANNELS
+    np.testing.assert_array_equal(heatmaps[:HEATMAP_CHANNELS], encode(PEOPLE, instances, CodecConfig(stride=STRIDE)))
+    offsets = heatmaps[CENTRE_OFFSET_CHANNELS]
+    cells = (HEIGHT // STRIDE, STRIDE, WIDTH // STRIDE, STRIDE)
+    for person in PEOPLE:
+        owned = (instances == person["instance_id"]).reshape(cells).mean(axis=(1, 3)) > 0.5
+        rows, columns = np.nonzero(owned)
+        height_cells = person["amodal_bbox"][3] / STRIDE
+        voted = np.column_stack([columns, rows]) + offsets[:, rows, columns].T * height_cells
+        np.testing.assert_allclose(voted, np.broadcast_to(input_to_cells(person["center"], STRIDE), voted.shape),
+                                   atol=1e-4)
+    assert not offsets[:, heatmaps[MASK_CHANNEL] == 0].any()  # nothing to learn off people
+
+
+def _one_blob_for_two(centre_offsets: bool) -> tuple[list[dict], np.ndarray, np.ndarray]:
+    """Two people side by side, their bodies touching, whose centre map a network blurred into one peak between
+    them: the codec's maps with the centre channel replaced by a single wide Gaussian."""
+    people = [_person((110.3, 95.7), 100.0, 1), _person((146.3, 95.7), 100.0, 2)]
+    heatmaps = encode(people, _instances(people), CodecConfig(stride=STRIDE, centre_offsets=centre_offsets))
+    rows, columns = np.indices(heatmaps.shape[1:])
+    between = input_to_cells([128.3, 95.7], STRIDE)
+    heatmaps[CENTRE_CHANNEL] = np.exp(-((columns - between[0]) ** 2 / 40.0 + (rows - between[1]) ** 2 / 8.0))
+    return people, heatmaps, np.full(heatmaps.shape[1:], 100.0)
+
+
+def test_votes_split_one_blob_into_its_two_people_each_boxed_by_its_own_pixels() -> None:
+    people, merged, heights = _one_blob_for_two(centre_offsets=False)
+    assert len(decode(merged, DecodeConfig(stride=STRIDE), heights)) == 1  # the centre map alone: one person
+    people, heatmaps, heights = _one_blob_for_two(centre_offsets=True)
+    decoded = decode(heatmaps, DecodeConfig(stride=STRIDE), heights)
+    assert len(decoded) == 2
+    for person in people:
+        match = min(decoded, key=lambda d: np.linalg.norm(d.centre - person["center"]))
+        x0, _, width, _ = person["amodal_bbox"]
+        assert np.linalg.norm(match.centre - person["center"]) < STRIDE
+        # the box spans this person's pixels, not the pair's
+        assert match.box[0] == pytest.approx(x0, abs=STRIDE + 3.0) and match.box[2] == pytest.approx(
+            x0 + width, abs=STRIDE + 3.0)
+
+
+def test_a_lone_person_s_votes_add_nobody_and_scattered_votes_are_not_a_person() -> None:
+    person = _person((110.3, 95.7), 100.0, 1)
+    heatmaps = encode([person], _instances([person]), CodecConfig(stride=STRIDE, centre_offsets=True))
+    heights = np.full(heatmaps.shape[1:], 100.0)
+    assert len(decode(heatmaps, DecodeConfig(stride=STRIDE), heights)) == 1
+    # votes sprayed everywhere (offsets of noise): no cluster holds a third of a person
+    heatmaps[CENTRE_OFFSET_CHANNELS] = np.random.default_rng(0).uniform(-0.6, 0.6, heatmaps[CENTRE_OFFSET_CHANNELS]
+                                                                        .shape)
+    assert len(decode(heatmaps, DecodeConfig(stride=STRIDE), heights)) == 1

@@ -23,10 +23,11 @@ from vc.cli.run import main as vc_run
 from vc.deploy.areas import ImageArea, in_area
 from vc.deploy.bundle import load_bundle
 from vc.deploy.decode import DecodeConfig, decode
-from vc.deploy.heatmaps import HEATMAP_CHANNELS, channel_names
+from vc.deploy.heatmaps import HEATMAP_CHANNELS, OFFSET_CHANNELS, channel_names
 from vc.deploy.runtime import Runtime
 from vc.errors import InputError
 from vc.io import write_image
+from vc.model.codec import CodecConfig
 from vc.model.export import DeployedNetwork, bundle_files, export_onnx
 from vc.model.network import ScenePoseNet
 from vc.model.precision import auto_precision, to_fp16, to_int8
@@ -335,3 +336,19 @@ def test_a_checkpoint_written_before_the_rule_still_loads(trained_run, tmp_path)
     checkpoint.update(format_version=1, versions={"torch": TorchVersion(torch.__version__)})
     torch.save(checkpoint, tmp_path / "old.pt")
     assert load_checkpoint(tmp_path / "old.pt").step == checkpoint["step"]
+
+
+def test_a_network_with_centre_offsets_exports_names_its_maps_and_runs(tmp_path):
+    data_root = write_dataset(tmp_path / "dataset")
+    config = TrainConfig(network=SMALL, steps=2, batch_size=2, warmup_steps=1,
+                         codec=CodecConfig(centre_offsets=True))
+    RegionTrainer(open_region(data_root, "r0"), config, tmp_path / "run", data_root, workers=0,
+                  show_progress=False).train()
+    assert vc_export([str(tmp_path / "run"), "-o", str(tmp_path / "bundle"), "--quiet"]) == 0
+    manifest = json.loads((tmp_path / "bundle" / "manifest.json").read_text())
+    assert manifest["output"]["channels"] == list(channel_names(OFFSET_CHANNELS))
+    assert manifest["output"]["channels"][-2:] == ["centre_offset_x", "centre_offset_y"]
+    runtime = Runtime(tmp_path / "bundle", threads=1)
+    frame = sample(region_camera(), 0).image
+    assert runtime.runners[0].heatmaps(frame).shape[0] == OFFSET_CHANNELS
+    assert isinstance(runtime(frame), list)

@@ -15,7 +15,7 @@ from dataset_factory import INPUT_SIZE, write_dataset
 
 import vc.model.train as vc_model_train
 from vc.cli.train import main as vc_train
-from vc.deploy.heatmaps import HEATMAP_CHANNELS
+from vc.deploy.heatmaps import CENTRE_OFFSET_CHANNELS, HEATMAP_CHANNELS, MASK_CHANNEL, OFFSET_CHANNELS
 from vc.errors import InputError
 from vc.model.codec import CodecConfig, encode
 from vc.model.config import DEFAULT_ARCH, network_config
@@ -67,6 +67,22 @@ def test_loss_weights_scale_their_own_terms():
                     + 7.0 * terms["handedness"])
     assert float(loss) == pytest.approx(float(expected), rel=1e-6)
     assert float(terms["pose"]) == pytest.approx(float((prediction[:, 1:18] - targets[:, 1:18]).square().mean()))
+
+
+def test_centre_offsets_are_learned_on_people_only_and_the_codec_sets_the_network_s_maps():
+    prediction, targets = torch.rand(2, OFFSET_CHANNELS, 8, 8), torch.rand(2, OFFSET_CHANNELS, 8, 8)
+    targets[:, MASK_CHANNEL, :4] = 0.0  # nobody in the top half: its offsets are not learned
+    terms = heatmap_terms(prediction, targets)
+    shifted = prediction.clone()
+    shifted[:, CENTRE_OFFSET_CHANNELS, :4] += 1.0
+    assert float(heatmap_terms(shifted, targets)["centre_offsets"]) == pytest.approx(float(terms["centre_offsets"]))
+    shifted[:, CENTRE_OFFSET_CHANNELS, 4:] += 1.0
+    assert float(heatmap_terms(shifted, targets)["centre_offsets"]) > float(terms["centre_offsets"])
+    with_offsets = _config(codec=CodecConfig(centre_offsets=True))
+    assert with_offsets.network.heatmap_channels == with_offsets.network.belief_channels == OFFSET_CHANNELS
+    assert TrainConfig.from_dict(with_offsets.to_dict()) == with_offsets
+    with pytest.raises(ValueError, match="centre offsets"):
+        TrainConfig(network=with_offsets.network)
 
 
 def test_one_batch_overfits_tenfold():

@@ -1,7 +1,7 @@
 """``vc-train``: one ScenePoseNet per region, trained on a ``vc-render`` dataset only.
 
     vc-train DATASET -o RUN [--region R ... | --all] [--arch A] [--width W] [--sb-units N] [--steps N]
-             [--batch-size B] [--seed K]
+             [--batch-size B] [--seed K] [--centre-offsets]
 
 Writes ``RUN/checkpoints/<region>.pt`` (resumable: run the same command again after an interruption),
 ``RUN/metrics.json`` (held-out synthetic AP50, PCKh@0.5 overall and per keypoint, mask IoU, training speed, per
@@ -44,6 +44,8 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--seed", type=int, default=defaults.seed, help="seed of weights and data order")
     parser.add_argument("--workers", type=_workers, default=defaults.workers, metavar="N|auto",
                         help=f"{TrainSettings.model_fields['workers'].description} (default {defaults.workers})")
+    parser.add_argument("--centre-offsets", action="store_true",
+                        help=TrainSettings.model_fields["centre_offsets"].description)
     parser.add_argument("--quiet", action="store_true", help="no progress bars")
     return parser
 
@@ -74,7 +76,8 @@ def report_results(results: list[RegionResult], run: Path) -> None:
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     settings = TrainSettings(arch=args.arch, width=args.width, sb_units=args.sb_units, steps=args.steps,
-                             batch_size=args.batch_size, seed=args.seed, workers=args.workers)
+                             batch_size=args.batch_size, seed=args.seed, workers=args.workers,
+                             centre_offsets=args.centre_offsets)
     job = prepare_training(args.dataset, settings, args.region)
     report_job(job)
     report_results(job.run(args.output, show_progress=not args.quiet), args.output)
