@@ -141,7 +141,7 @@ PRESETS: dict[str, CompileConfig] = {
                            export=ExportSettings(precision="auto", eval_samples=100),
                            self_test=SelfTestSettings(frames=8)),
     # the default: PETS09 in about 30 minutes on 2 cores (7 minutes of training per region). With centre offsets:
-    # on PETS09, three pairs of the same renders and seed, AP50 tracked 0.922 -> 0.934 (each frame 0.919 -> 0.926),
+    # on PETS09, three pairs of the same renders and seed, AP50 tracked 0.922 -> 0.934 (each frame 0.918 -> 0.927),
     # recall of people overlapping another 0.78 -> 0.83, MOTA and IDF1 up in all three, +0.3 ms a frame
     # (benchmarks/results/centre_offsets_pets09.md); not measured at the quick budget's 200 steps
     "standard": CompileConfig(render=RenderSettings(samples=2000), train=TrainSettings(centre_offsets=True)),
