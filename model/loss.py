@@ -5,7 +5,7 @@ by the target mask (an offset means something only on a person's pixels; L1, as 
 cells on the border between two people, whose owner is a coin toss, do not dominate).
 
 Each term is a mean squared error over its heat-map pixels (the pose and handedness terms the mean over their
-maps).
+maps; the offsets' term their mask-weighed absolute error, averaged likewise).
 With intermediate supervision every SB unit's belief maps are held to the same targets and their losses added
 (as in convolutional pose machines), so early units learn usable beliefs instead of whatever helps the last one.
 """
@@ -51,7 +51,8 @@ class LossWeights:
 
 
 def heatmap_terms(prediction: Tensor, targets: Tensor) -> dict[str, Tensor]:
-    """The MSE terms of one prediction (B, HEATMAP_CHANNELS, h, w) against its targets (same shape), unweighted."""
+    """The terms of one prediction (B, C, h, w) against its targets (same shape), unweighted: C one of the
+    layouts of :mod:`vc.deploy.heatmaps`, the ``centre_offsets`` term only where it has the offset maps."""
     if prediction.shape != targets.shape:
         raise ValueError(f"prediction {tuple(prediction.shape)} and targets {tuple(targets.shape)} differ in shape")
     squared = (prediction[:, :CENTRE_OFFSET_CHANNELS.start] - targets[:, :CENTRE_OFFSET_CHANNELS.start]).square()
