@@ -418,7 +418,11 @@ def _window_sums(grid: np.ndarray, radius: int) -> np.ndarray:
     """The sum of ``grid`` over the (2 radius + 1)^2 window around each cell (zeros beyond the border), from a
     summed-area table."""
     side = 2 * radius + 1
-    table = np.pad(np.pad(grid, radius).cumsum(axis=0).cumsum(axis=1), ((1, 0), (1, 0)))
+    height, width = grid.shape
+    table = np.zeros((height + side, width + side))  # a zero row and column, then the grid padded by the radius
+    table[radius + 1:radius + 1 + height, radius + 1:radius + 1 + width] = grid  # (np.pad's generality costs more
+    table.cumsum(axis=0, out=table)                                              # than the sums, every round)
+    table.cumsum(axis=1, out=table)
     return table[side:, side:] - table[:-side, side:] - table[side:, :-side] + table[:-side, :-side]
 
 
