@@ -162,10 +162,10 @@ class PlacementSampler:
             "border": near.difference(region_ground).intersection(standable),
             "behind_obstacle": shapely.union_all(hidden) if hidden else Polygon(),
         }
-        self._points = {kind: [_UniformPoints(self.areas[kind])] for kind in ("region", "border")}
-        self._points["behind_obstacle"] = [_UniformPoints(area) for area in hidden]
-        self._points = {kind: [points for points in samplers if points]
-                        for kind, samplers in self._points.items()}
+        # per kind, a sampler for each of its non-empty areas (behind obstacles: one per obstacle)
+        areas = {"region": [self.areas["region"]], "border": [self.areas["border"]], "behind_obstacle": hidden}
+        self._points = {kind: [points for points in map(_UniformPoints, pieces) if points]
+                        for kind, pieces in areas.items()}
         if not self._points["region"]:
             raise ValueError("the region has no standable ground")
         self.standable = standable
