@@ -24,6 +24,7 @@ from vc.io import atomic_path
 from vc.model.codec import CodecConfig
 from vc.model.config import DEFAULT_ARCH, network_config
 from vc.model.config import PRESETS as NETWORK_PRESETS
+from vc.model.loss import LossWeights
 from vc.model.train import TrainConfig, centre_map_settings, native_bf16
 from vc.render.job import DEFAULT_SHARD_SIZE
 from vc.render.synthesis import SynthesisSettings
@@ -73,6 +74,9 @@ class TrainSettings(_Section):
     centre_offsets: bool = Field(False, description="also learn, at each person pixel, where that person's centre "
                                                     "is: the decoder splits people in one blob by their pixels' votes "
                                                     "(on in the standard and full budgets)")
+    centre_offset_weight: float = Field(LossWeights.centre_offsets, gt=0.0,
+                                        description="the centre offsets' share of the loss (with centre_offsets): "
+                                                    "lower leaves more of the network to the keypoint maps")
 
     def train_config(self) -> TrainConfig:
         """The full training config; a width or SB count the network cannot take is bad input."""
@@ -87,6 +91,7 @@ class TrainSettings(_Section):
         centre = {} if self.centre_sigma is None else centre_map_settings(self.centre_sigma)
         if self.centre_offsets:
             centre["codec"] = replace(centre.get("codec", CodecConfig()), centre_offsets=True)
+            centre["loss"] = replace(centre.get("loss", LossWeights()), centre_offsets=self.centre_offset_weight)
         return TrainConfig(network=network, steps=self.steps, batch_size=self.batch_size, seed=self.seed,
                            bf16_autocast=bf16, channels_last=channels_last, **centre)
 

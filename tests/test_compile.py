@@ -86,6 +86,14 @@ def test_a_budget_is_a_preset_and_set_changes_one_field():
     assert compile_cli.config_from(parser.parse_args(["s.yaml", "-o", "o"])) == PRESETS["standard"]
 
 
+def test_the_offsets_weight_reaches_the_loss_and_only_with_the_offsets():
+    from vc.stages.config import TrainSettings
+    weighed = TrainSettings(centre_offsets=True, centre_offset_weight=0.3, centre_sigma=0.05).train_config()
+    assert weighed.loss.centre_offsets == 0.3 and weighed.codec.centre_offsets
+    assert weighed.loss.detection > TrainSettings().train_config().loss.detection  # the sharper map's weight kept
+    assert TrainSettings(centre_offset_weight=0.3).train_config().loss == TrainSettings().train_config().loss
+
+
 def test_a_bad_config_file_is_one_line_naming_the_field(tmp_path, capsys):
     bad = tmp_path / "bad.yaml"
     bad.write_text(yaml.safe_dump({**TOY, "train": {"steps": -1}}))

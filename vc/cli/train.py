@@ -1,7 +1,7 @@
 """``vc-train``: one ScenePoseNet per region, trained on a ``vc-render`` dataset only.
 
     vc-train DATASET -o RUN [--region R ... | --all] [--arch A] [--width W] [--sb-units N] [--steps N]
-             [--batch-size B] [--seed K] [--centre-offsets]
+             [--batch-size B] [--seed K] [--centre-offsets [--offset-weight W]]
 
 Writes ``RUN/checkpoints/<region>.pt`` (resumable: run the same command again after an interruption),
 ``RUN/metrics.json`` (held-out synthetic AP50, PCKh@0.5 overall and per keypoint, mask IoU, training speed, per
@@ -16,7 +16,7 @@ import argparse
 from pathlib import Path
 
 from vc import __version__
-from vc.cli.common import handles_input_errors, non_negative_int, positive_int
+from vc.cli.common import handles_input_errors, non_negative_int, positive_float, positive_int
 from vc.evaluation.metrics import Evaluation
 from vc.model.config import PRESETS
 from vc.model.train import RegionResult
@@ -46,6 +46,9 @@ def _parser() -> argparse.ArgumentParser:
                         help=f"{TrainSettings.model_fields['workers'].description} (default {defaults.workers})")
     parser.add_argument("--centre-offsets", action="store_true",
                         help=TrainSettings.model_fields["centre_offsets"].description)
+    parser.add_argument("--offset-weight", type=positive_float, default=defaults.centre_offset_weight,
+                        metavar="W", help=TrainSettings.model_fields["centre_offset_weight"].description
+                        + f" (default {defaults.centre_offset_weight:g})")
     parser.add_argument("--quiet", action="store_true", help="no progress bars")
     return parser
 
@@ -77,7 +80,7 @@ def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     settings = TrainSettings(arch=args.arch, width=args.width, sb_units=args.sb_units, steps=args.steps,
                              batch_size=args.batch_size, seed=args.seed, workers=args.workers,
-                             centre_offsets=args.centre_offsets)
+                             centre_offsets=args.centre_offsets, centre_offset_weight=args.offset_weight)
     job = prepare_training(args.dataset, settings, args.region)
     report_job(job)
     report_results(job.run(args.output, show_progress=not args.quiet), args.output)
