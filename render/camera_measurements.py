@@ -10,6 +10,7 @@ compression, a single frame is not, a rendered one (the demo's) has neither.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -54,11 +55,15 @@ def _jpeg_dict(estimate: JpegEstimate) -> dict:
             "evidence": estimate.evidence}
 
 
+def measured_frames(video: Path) -> FrameRange:
+    """Up to :data:`VIDEO_FRAMES` frames spread over the first :data:`VIDEO_SPAN` (fewer in a shorter video): the
+    frames measured, which are all a copy of the scene needs of its video (``benchmarks/device/pack_scene_gpu.sh``)."""
+    span = min(VIDEO_SPAN, len(FrameSource(video)))
+    return FrameRange(1, span, max(1, span // VIDEO_FRAMES))
+
+
 def _video_frames(scene: Scene) -> list[np.ndarray]:
-    """Up to :data:`VIDEO_FRAMES` frames spread over the first :data:`VIDEO_SPAN` (fewer in a shorter video)."""
-    span = min(VIDEO_SPAN, len(FrameSource(scene.video_path)))
-    source = FrameSource(scene.video_path, FrameRange(1, span, max(1, span // VIDEO_FRAMES)))
-    frames = [frame.image for frame in source]
+    frames = [frame.image for frame in FrameSource(scene.video_path, measured_frames(scene.video_path))]
     if len(frames) < MIN_VIDEO_FRAMES:
         raise InputError(scene.path, "video", f"{scene.video_path.name} holds {len(frames)} readable frame(s); "
                                               f"measuring the camera's noise needs at least {MIN_VIDEO_FRAMES}")

@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Training variants of one scene on one set of GPU renders: the scene rendered once at the standard budget's
+# 2 000 samples per region (12 render processes), then trained once per variant (each argument is one variant's
+# vc-train options; "" for the defaults), two variants at a time, and each exported as a compile exports (int8
+# where it holds). The bundles come back in $OUT/variants.tar (v0/bundle, v0/metrics.json, ...; variants.txt says
+# which is which) for vc-eval on the real frames here. The variants share renders and seed, so their differences
+# are theirs alone.
+#
+#   SCENE=tud/scene.yaml SEED=1 bash benchmarks/device/variants_gpu.sh "" "--centre-offsets" \
+#       "--centre-offsets --offset-weight 0.3"
+#
+# SCENE is relative to .gpu/ (pack_gpu.sh; a scene of your own goes beside it with its background, calibration
+# and the video frames its effects are measured from). Stops what is unfinished at LIMIT_S (default 540) and
+# still returns what finished.
+set -uo pipefail
+root=$PWD
+seed=${SEED:-0}
+deadline=$(( $(date +%s) + ${LIMIT_S:-540} ))
+source "$(dirname "$0")/gpu_site.sh"
+cd .gpu  # the checkout's own vc/ would shadow the installed package
+out=$root/out/variants
+vc() { local tool=$1; shift
+       timeout -s INT $(( deadline - $(date +%s) )) python3 -c \
+           "import sys; from vc.cli.$tool import main; sys.argv[0] = 'vc-$tool'; sys.exit(main())" "$@"; }
+start=$(date +%s)
+vc render "$SCENE" -o "$out/renders" --samples "${SAMPLES:-2000}" --seed "$seed" --processes 12 --quiet \
+    > "$OUT/render.log" 2>&1 || { tail -5 "$OUT/render.log"; exit 1; }
+echo "render: $(( $(date +%s) - start )) s"
+variant() {  # index, vc-train options
+    local name=v$1 started; started=$(date +%s); shift
+    # shellcheck disable=SC2086  # the options are words
+    vc train "$out/renders" -o "$out/$name/run" --seed "$seed" --workers 6 --quiet $1 > "$OUT/$name.train.log" 2>&1 \
+        && vc export "$out/$name/run" -o "$out/$name/bundle" --precision auto --quiet > "$OUT/$name.export.log" 2>&1
+    local status=$?
+    echo "$name ($1): $(( $(date +%s) - started )) s, exit $status"
+}
+index=0
+for options in "$@"; do
+    echo "v$index $options" >> "$OUT/variants.txt"
+    variant "$index" "$options" &
+    index=$(( index + 1 ))
+    (( index % 2 == 0 )) && wait
+done
+wait
+echo "all: $(( $(date +%s) - start )) s"
+cd "$out" && tar -cf "$OUT/variants.tar" v*/bundle v*/run/metrics.json v*/run/r*/training_loss.png 2>/dev/null
+ls "$out"
