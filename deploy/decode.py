@@ -374,7 +374,8 @@ def _vote_centres(voted: np.ndarray, weights: np.ndarray, vote_heights: np.ndarr
     as its share of one person's pixels (:data:`PERSON_AREA`), over windows of that separation (at the votes' median
     height): the heaviest window, if it holds at least ``vote_support`` of a person, is a person at its votes'
     weighted mean; its votes leave the map, and the next heaviest is weighed, at most ``max_people`` times
-    (summed-area tables keep each round linear in the map's size, however many votes there are).
+    (a summed-area table gives every window's sum at once, however many votes there are; after each round only
+    the windows that overlap the one emptied are summed again: a crowd's twenty rounds cost about one).
 
     A peak that few pixels vote for (less than ``vote_support``), within :data:`MERGED_PEAK_REACH` of such a
     person, is the blur of people around it: it moves to the first of them (keeping its score), and the others are
@@ -395,14 +396,15 @@ def _vote_centres(voted: np.ndarray, weights: np.ndarray, vote_heights: np.ndarr
     radius = max(1, int(round(config.min_centre_separation * float(np.median(vote_heights[free])))))
     votes_map = np.zeros(shape)
     np.add.at(votes_map, (cells[free, 1], cells[free, 0]), share[free])
+    support = _window_sums(votes_map, radius)
     for _ in range(config.max_people):
-        support = _window_sums(votes_map, radius)
         row, column = np.unravel_index(int(np.argmax(support)), shape)
         if support[row, column] < config.vote_support:
             break
         members = free & (np.abs(cells[:, 0] - column) <= radius) & (np.abs(cells[:, 1] - row) <= radius)
         centre = np.average(voted[members], axis=0, weights=share[members])
         np.add.at(votes_map, (cells[members, 1], cells[members, 0]), -share[members])
+        _update_window_sums(support, votes_map, radius, row, column)
         free &= ~members
         reach = np.hypot(*(peaks - centre).T) / peak_heights  # (N,) in heights
         blurs = np.flatnonzero(unsupported & (reach <= MERGED_PEAK_REACH))
@@ -424,6 +426,21 @@ def _window_sums(grid: np.ndarray, radius: int) -> np.ndarray:
     table.cumsum(axis=0, out=table)                                              # than the sums, every round)
     table.cumsum(axis=1, out=table)
     return table[side:, side:] - table[:-side, side:] - table[side:, :-side] + table[:-side, :-side]
+
+
+def _update_window_sums(sums: np.ndarray, grid: np.ndarray, radius: int, row: int, column: int) -> None:
+    """``sums`` (:func:`_window_sums` of ``grid`` before the cells within ``radius`` of (row, column) changed)
+    brought up to date: only the windows within two radii of that cell hold a changed cell, and each of them reads
+    the grid at most one radius further out."""
+    height, width = grid.shape
+    rows = slice(max(0, row - 2 * radius), min(height, row + 2 * radius + 1))
+    columns = slice(max(0, column - 2 * radius), min(width, column + 2 * radius + 1))
+    read_rows = slice(max(0, rows.start - radius), min(height, rows.stop + radius))
+    read_columns = slice(max(0, columns.start - radius), min(width, columns.stop + radius))
+    # Zeros beyond the read slice are right: it ends one radius past the updated windows, or at the grid's border.
+    local = _window_sums(grid[read_rows, read_columns], radius)
+    sums[rows, columns] = local[rows.start - read_rows.start:rows.stop - read_rows.start,
+                                columns.start - read_columns.start:columns.stop - read_columns.start]
 
 
 def _separated(centres_cells: np.ndarray, heights_cells: np.ndarray, separation: float) -> list[int]:

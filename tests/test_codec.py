@@ -11,7 +11,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from vc.deploy.decode import DecodeConfig, _keypoints, decode, find_peaks
+from vc.deploy.decode import DecodeConfig, _keypoints, _update_window_sums, _window_sums, decode, find_peaks
 from vc.deploy.heatmaps import (
     ANATOMICAL_CHANNELS,
     CENTRE_CHANNEL,
@@ -339,3 +339,16 @@ def test_a_lone_person_s_votes_add_nobody_and_scattered_votes_are_not_a_person()
     heatmaps[CENTRE_OFFSET_CHANNELS] = np.random.default_rng(0).uniform(-0.6, 0.6, heatmaps[CENTRE_OFFSET_CHANNELS]
                                                                         .shape)
     assert len(decode(heatmaps, DecodeConfig(stride=STRIDE), heights)) == 1
+
+
+@pytest.mark.parametrize("row, column", [(0, 0), (17, 30), (39, 63), (5, 62)])
+def test_window_sums_brought_up_to_date_around_emptied_cells_equal_summing_again(row, column) -> None:
+    # The vote step empties one window a round and sums again only around it (step 1b): at the borders too.
+    rng = np.random.default_rng(row * 100 + column)
+    grid = rng.uniform(0.0, 1.0, (40, 64)) * (rng.uniform(size=(40, 64)) < 0.3)
+    radius = 3
+    sums = _window_sums(grid, radius)
+    grid[max(0, row - radius):row + radius + 1, max(0, column - radius):column + radius + 1] = 0.0
+    _update_window_sums(sums, grid, radius, row, column)
+    np.testing.assert_allclose(sums, _window_sums(grid, radius), atol=1e-12)
+    assert sums[row, column] == pytest.approx(0.0, abs=1e-12)
