@@ -229,7 +229,7 @@ def test_exclusive_keypoints_keep_a_neighbour_s_feet_out_of_a_person_s_box():
     for ankle in (15, 16):
         column, row = (int(round(v)) for v in input_to_cells(behind["keypoints"][3 * ankle:3 * ankle + 2], STRIDE))
         heatmaps[1 + 15:1 + 17, row - 2:row + 3, column - 2:column + 3] = 0.0  # the ankle maps only
-    shared = decode(heatmaps, DecodeConfig(stride=STRIDE), heights)
+    shared = decode(heatmaps, DecodeConfig(stride=STRIDE, exclusive_keypoints=False), heights)
     exclusive = decode(heatmaps, DecodeConfig(stride=STRIDE, exclusive_keypoints=True), heights)
     assert len(shared) == len(exclusive) == 2
     (behind_shared, front_shared), (behind_exclusive, front_exclusive) = (
