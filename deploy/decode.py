@@ -104,11 +104,12 @@ class DecodeConfig:
     exclusive_keypoints: bool = True
     keypoint_peak_floor: float = 0.05
     # Step 1b (networks with centre offsets): the share of a person's pixels (PERSON_AREA) whose unclaimed votes
-    # make one more person. 0.1 since benchmarks/results/decode_votes.md: a person half hidden behind another
+    # make one more person. 0.15 since benchmarks/results/decode_votes.md: a person half hidden behind another
     # shows a fraction of their pixels, and the centre map's threshold still has to accept the place they vote
-    # for; 0.3 left them out (real AP50 each frame, with exclusive keypoints: PETS09 +0.002..+0.017 over three
-    # bundles, TUD-Stadtmitte +0.04; 0.07 and 0.05 no better).
-    vote_support: float = 0.1
+    # for; 0.3 left them out (with exclusive keypoints, real AP50 tracked PETS09 0.934 -> 0.941 over three
+    # bundles, TUD-Stadtmitte +0.03). 0.1 found as many (+0.002) but people appearing and vanishing in groups
+    # switched identities in tracking half as often again (PETS09 IDF1 0.79 at 0.15, 0.71 at 0.1).
+    vote_support: float = 0.15
 
 
 
