@@ -44,6 +44,10 @@ VARIANTS: dict[str, dict] = {
     "height from the camera only (before)": {"height_from_keypoints": False},
     "height from head and ankles within 1.3x": {"keypoint_height_range": 1.3},
     "height from head and ankles within 2x": {"keypoint_height_range": 2.0},
+    # Step 1b and 2b (benchmarks/results/decode_votes.md): the defaults before, and the next step down.
+    "votes of 0.3 of a person (before)": {"vote_support": 0.3},
+    "votes of 0.1 of a person": {"vote_support": 0.1},
+    "keypoint peaks shared (before)": {"exclusive_keypoints": False},
 }
 
 
