@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Annotated, Literal
 
 import yaml
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, ValidationInfo, field_validator
 
 from vc.errors import InputError
 from vc.io import atomic_path
@@ -77,6 +77,13 @@ class TrainSettings(_Section):
     centre_offset_weight: float = Field(LossWeights.centre_offsets, gt=0.0,
                                         description="the centre offsets' share of the loss (with centre_offsets): "
                                                     "lower leaves more of the network to the keypoint maps")
+
+    @field_validator("centre_offset_weight")
+    @classmethod
+    def _weight_needs_offsets(cls, weight: float, info: ValidationInfo) -> float:
+        if weight != LossWeights.centre_offsets and not info.data.get("centre_offsets", False):
+            raise ValueError("weighs the centre offsets, which this training does not learn (set centre_offsets)")
+        return weight
 
     def train_config(self) -> TrainConfig:
         """The full training config; a width or SB count the network cannot take is bad input."""
@@ -155,13 +162,19 @@ PRESETS: dict[str, CompileConfig] = {
 }
 
 
-def _validated(data: object, path: Path | None, field_prefix: str = "") -> CompileConfig:
+def _validated(data: object, path: Path | None, field_prefix: str = "", model: type[BaseModel] = CompileConfig):
     try:
-        return CompileConfig.model_validate(data)
+        return model.model_validate(data)
     except ValidationError as error:
         problem = error.errors()[0]
         where = ".".join(str(part) for part in problem["loc"]) or "(top level)"
-        raise InputError(path, field_prefix + where, problem["msg"]) from None
+        raise InputError(path, field_prefix + where, problem["msg"].removeprefix("Value error, ")) from None
+
+
+def train_settings(**fields: object) -> TrainSettings:
+    """:class:`TrainSettings` from a command line's options; a bad value raises :class:`InputError` naming its
+    field (``train.<field>``)."""
+    return _validated(fields, None, "train.", TrainSettings)
 
 
 def read_config(path: Path) -> CompileConfig:

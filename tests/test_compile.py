@@ -13,6 +13,7 @@ import yaml
 from conftest import write_compile_config
 
 from vc.cli import compile as compile_cli
+from vc.cli import train as train_cli
 from vc.evaluation.selftest import composite_frame
 from vc.render.dataset import open_region
 from vc.stages.config import CONFIG_FILE, PRESETS, CompileConfig, read_config
@@ -91,7 +92,16 @@ def test_the_offsets_weight_reaches_the_loss_and_only_with_the_offsets():
     weighed = TrainSettings(centre_offsets=True, centre_offset_weight=0.3, centre_sigma=0.05).train_config()
     assert weighed.loss.centre_offsets == 0.3 and weighed.codec.centre_offsets
     assert weighed.loss.detection > TrainSettings().train_config().loss.detection  # the sharper map's weight kept
-    assert TrainSettings(centre_offset_weight=0.3).train_config().loss == TrainSettings().train_config().loss
+    assert TrainSettings(centre_offsets=True, centre_offset_weight=1.0).train_config().loss.centre_offsets == 1.0
+
+
+def test_an_offsets_weight_without_the_offsets_is_one_line_naming_the_field(tmp_path, capsys):
+    renders = tmp_path / "renders"
+    renders.mkdir()
+    assert train_cli.main([str(renders), "-o", str(tmp_path / "run"), "--offset-weight", "0.3"]) == 2
+    error = capsys.readouterr().err.strip()
+    assert error.count("\n") == 0 and "centre_offset_weight" in error and "centre_offsets" in error
+    assert not (tmp_path / "run").exists()
 
 
 def test_a_bad_config_file_is_one_line_naming_the_field(tmp_path, capsys):

@@ -20,7 +20,7 @@ from vc.cli.common import handles_input_errors, non_negative_int, positive_float
 from vc.evaluation.metrics import Evaluation
 from vc.model.config import PRESETS
 from vc.model.train import RegionResult
-from vc.stages.config import TrainSettings
+from vc.stages.config import TrainSettings, train_settings
 from vc.stages.train import METRICS, TrainingJob, prepare_training
 
 
@@ -78,9 +78,9 @@ def report_results(results: list[RegionResult], run: Path) -> None:
 @handles_input_errors
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
-    settings = TrainSettings(arch=args.arch, width=args.width, sb_units=args.sb_units, steps=args.steps,
-                             batch_size=args.batch_size, seed=args.seed, workers=args.workers,
-                             centre_offsets=args.centre_offsets, centre_offset_weight=args.offset_weight)
+    settings = train_settings(arch=args.arch, width=args.width, sb_units=args.sb_units, steps=args.steps,
+                              batch_size=args.batch_size, seed=args.seed, workers=args.workers,
+                              centre_offsets=args.centre_offsets, centre_offset_weight=args.offset_weight)
     job = prepare_training(args.dataset, settings, args.region)
     report_job(job)
     report_results(job.run(args.output, show_progress=not args.quiet), args.output)
