@@ -162,7 +162,8 @@ PRESETS: dict[str, CompileConfig] = {
 }
 
 
-def _validated(data: object, path: Path | None, field_prefix: str = "", model: type[BaseModel] = CompileConfig):
+def _validated(data: object, path: Path | None, field_prefix: str = "",
+               model: type[BaseModel] = CompileConfig) -> BaseModel:
     try:
         return model.model_validate(data)
     except ValidationError as error:

@@ -19,7 +19,7 @@ out=$root/out/gpu_pets09
 start=$(date +%s)
 # stopped before the call's limit (SIGINT: the compile keeps what it finished), so that the lines below still run
 timeout -s INT "${LIMIT_S:-530}" python3 -c \
-    "import sys; from vc.cli.compile import main; sys.argv[0] = 'vc-compile'; sys.exit(main())" \
+    "$(vc_main compile)" \
     pets09.yaml -o "$out" --budget standard --seed 0 "$@" 2>&1 \
     | tee -a "$OUT/compile.log" | tr '\r' '\n' | grep -v -E "^\s*$|it/s\]|step/s\]|sample/s\]|s/it\]"
 echo "this call: $(( $(date +%s) - start )) s"

@@ -9,7 +9,7 @@ set -uo pipefail
 source "$(dirname "$0")/gpu_site.sh"
 cd .gpu  # the checkout's own vc/ would shadow the installed package
 rm -rf /tmp/gpu-renders
-python3 -c "import sys; from vc.cli.render import main; sys.argv[0] = 'vc-render'; sys.exit(main())" \
+python3 -c "$(vc_main render)" \
     pets09.yaml -o /tmp/gpu-renders --samples "${SAMPLES:-20}" --quiet 2>&1 | tee "$OUT/render.log" \
     | grep -v "shader binding table" ; grep -c "shader binding table" "$OUT/render.log" | sed 's/^/OptiX warnings: /'
 tar -cf "$OUT/renders.tar" -C /tmp gpu-renders

@@ -18,9 +18,9 @@ out=$root/out/gpu_pets09
 [ -d "$out/bundle" ] || { echo "the compile did not finish: no variant"; exit 1; }
 cd .gpu
 start=$(date +%s)
-python3 -c "import sys; from vc.cli.train import main; sys.argv[0] = 'vc-train'; sys.exit(main())" \
+python3 -c "$(vc_main train)" \
     "$out/renders" -o "$root/out/gpu_variant/run" --seed "$seed" --quiet "$@" 2>&1 | tee "$OUT/variant_train.log"
-python3 -c "import sys; from vc.cli.export import main; sys.argv[0] = 'vc-export'; sys.exit(main())" \
+python3 -c "$(vc_main export)" \
     "$root/out/gpu_variant/run" -o "$root/out/gpu_variant/bundle" --precision auto --quiet 2>&1 \
     | tee "$OUT/variant_export.log"
 echo "variant: $(( $(date +%s) - start )) s"

@@ -23,9 +23,7 @@ cd .gpu  # the checkout's own vc/ would shadow the installed package
 out=$root/out/variants
 runs=$out/train_seed_$train_seed logs=$out/train_seed_$train_seed/logs
 mkdir -p "$logs"
-vc() { local tool=$1; shift
-       timeout -s INT $(( deadline - $(date +%s) )) python3 -c \
-           "import sys; from vc.cli.$tool import main; sys.argv[0] = 'vc-$tool'; sys.exit(main())" "$@"; }
+vc() { local tool=$1; shift; timeout -s INT $(( deadline - $(date +%s) )) python3 -c "$(vc_main "$tool")" "$@"; }
 start=$(date +%s)
 vc render "$SCENE" -o "$out/renders" --samples "${SAMPLES:-2000}" --seed "$seed" --processes 12 --quiet \
     > "$logs/render.log" 2>&1 || { tail -5 "$logs/render.log"; exit 1; }
