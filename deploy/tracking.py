@@ -43,7 +43,14 @@ the time unseen: precision pays little, as the score ranks it below what is seen
    weak motion, while one that learned facing (TUD-Stadtmitte's larger people) is right more often than an
    unclear motion. A track of fewer than ``min_observations`` in the window, or no motion at all, leaves the
    network's order.
-4. A person whose facing came from motion gets each left/right pair put in the image order that facing implies.
+4. A person whose facing came from motion gets each left/right pair put in the image order that facing implies,
+   and their face turned the way they walk: the nose and the eyes are put ahead of the ears' midpoint, toward the
+   side the feet move to, by the body model's distances (:data:`FACE_AHEAD_OF_EARS`) times the share of the walk
+   that crosses the view (the foot point's horizontal speed over ``profile_speed_heights_per_s``, at most 1: a
+   person crossing the view is seen in profile, one walking along it from the front or back). Why: where the
+   network cannot tell which way a face points it puts the nose between the ears, where no face has it in
+   profile (PETS09: a median 0.01 head sizes from the ears' midpoint where YOLO11n-pose sees a profile with the
+   nose 0.5 head sizes ahead of the ear; docs/pose.md).
 5. Carried: a track of at least ``coast_min_observations`` unseen for at most ``coast_s`` is reported
    (``coasted``) with its last box and keypoints moved by the least-squares velocity of its box over the window,
    its score times ``exp(-unseen / coast_score_decay_s)`` and no mask, unless that box overlaps a person seen in
@@ -60,6 +67,15 @@ from vc.deploy.boxes import box_iou, foot_points
 from vc.deploy.frames import FrameSource
 from vc.deploy.heatmaps import PAIRS, swap_pairs
 from vc.deploy.runtime import Person
+from vc.keypoints import COCO_KEYPOINTS
+
+#: How far the nose and the eyes stand ahead of the ears' midpoint, in fractions of the person's height: the
+#: renderer's body model (anny's template, ``render/bodies.py``) has its nose 0.103 m and its eyes 0.081 m ahead of
+#: the ears on a 1.67 m body (tests/test_bodies.py checks these against it).
+FACE_AHEAD_OF_EARS = {"nose": 0.062, "eyes": 0.048}
+_NOSE = COCO_KEYPOINTS.index("nose")
+_EYES = [COCO_KEYPOINTS.index("left_eye"), COCO_KEYPOINTS.index("right_eye")]
+_EARS = [COCO_KEYPOINTS.index("left_ear"), COCO_KEYPOINTS.index("right_ear")]
 
 
 @dataclass(frozen=True)
@@ -74,6 +90,8 @@ class TrackingConfig:
     min_observations: int = 4
     foot_jitter_heights: float = 0.02  # the least noise assumed on a foot point
     min_significance: float = 2.0  # speed / its standard error
+    # a walk across the view this fast is seen in full profile (1.3 m/s, a comfortable walk, for a 1.7 m person)
+    profile_speed_heights_per_s: float = 0.75
     trust_network: float = 0.3  # where the motion is not clear, a network this confident keeps its facing
     coast_s: float = 0.5  # a track unseen up to this long is still reported (0: never)
     coast_min_observations: int = 3  # a track seen this often is a person, not a passing false alarm
@@ -118,12 +136,12 @@ def tracking_rate(source: FrameSource, fps: float | None) -> float | None:
     return source.fps if source.kind == "video" else None
 
 
-def vertical_speed(times: np.ndarray, foot_y: np.ndarray, height: float, jitter_heights: float
-                   ) -> tuple[float, float]:
-    """Least-squares speed of the foot point down the image (person heights per second; > 0: toward the camera)
-    and its standard error, the residuals' variance floored at ``jitter_heights`` squared (step 2)."""
+def foot_speed(times: np.ndarray, foot: np.ndarray, height: float, jitter_heights: float) -> tuple[float, float]:
+    """Least-squares speed of one coordinate of the foot point (person heights per second; y: > 0 down the image,
+    toward the camera; x: > 0 to the image's right) and its standard error, the residuals' variance floored at
+    ``jitter_heights`` squared (step 2)."""
     t = times - times.mean()
-    y = foot_y / height
+    y = foot / height
     spread = float(t @ t)
     if len(t) < 3 or spread <= 0.0:
         return 0.0, float("inf")
@@ -143,6 +161,17 @@ def facing_pairs(person: Person, seen_from_behind: bool) -> np.ndarray:
         return swap_pairs(person.keypoints, (person.pair_handedness >= 0) != seen_from_behind)
     image_left_first = [person.keypoints[left, 0] <= person.keypoints[right, 0] for left, right in PAIRS]
     return swap_pairs(person.keypoints, np.array(image_left_first) != seen_from_behind)
+
+
+def face_ahead(keypoints: np.ndarray, height: float, across: float) -> np.ndarray:
+    """The keypoints (17, 3) with the nose and the eyes (their midpoint; their spacing kept) put ahead of the ears'
+    midpoint by :data:`FACE_AHEAD_OF_EARS` of the person's ``height`` (px) times ``across`` (-1: in profile facing
+    the image's left, 0: facing along the view, 1: in profile facing right) (step 4)."""
+    turned = keypoints.copy()
+    ears_x = float(keypoints[_EARS, 0].mean())
+    turned[_NOSE, 0] = ears_x + FACE_AHEAD_OF_EARS["nose"] * height * across
+    turned[_EYES, 0] += ears_x + FACE_AHEAD_OF_EARS["eyes"] * height * across - float(keypoints[_EYES, 0].mean())
+    return turned
 
 
 class Tracker:
@@ -210,13 +239,16 @@ class Tracker:
         config = self.config
         if len(track.times) < config.min_observations:  # the track holds its window's observations only
             return person
-        boxes = np.array(track.boxes)
-        speed, error = vertical_speed(np.array(track.times), foot_points(boxes)[:, 1],
-                                      float(np.mean(boxes[:, 3] - boxes[:, 1])), config.foot_jitter_heights)
+        boxes, times = np.array(track.boxes), np.array(track.times)
+        feet, height = foot_points(boxes), float(np.mean(boxes[:, 3] - boxes[:, 1]))
+        speed, error = foot_speed(times, feet[:, 1], height, config.foot_jitter_heights)
         clear = abs(speed) >= config.min_significance * error
         if speed == 0.0 or not (clear or abs(person.handedness) < config.trust_network):
             return person
-        return replace(person, keypoints=facing_pairs(person, seen_from_behind=speed < 0), facing="motion")
+        across, _ = foot_speed(times, feet[:, 0], height, config.foot_jitter_heights)
+        keypoints = face_ahead(facing_pairs(person, seen_from_behind=speed < 0), float(person.box[3] - person.box[1]),
+                               float(np.clip(across / config.profile_speed_heights_per_s, -1.0, 1.0)))
+        return replace(person, keypoints=keypoints, facing="motion")
 
     def _carried(self, unseen: list[_Track], seen_boxes: np.ndarray, time_s: float) -> list[Person]:
         """Step 5: the people of tracks unseen in this frame that are still reported."""

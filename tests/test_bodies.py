@@ -8,6 +8,7 @@ import torch
 import trimesh
 
 from vc.deploy.decode import LOWER_ANKLE_OFFSET, UPRIGHT_OFFSETS
+from vc.deploy.tracking import FACE_AHEAD_OF_EARS
 from vc.keypoints import COCO_KEYPOINTS
 from vc.render.bodies import BODY_PARTS, Gait, Phenotype, PosedBodies, sample_gait, sample_phenotype
 
@@ -201,3 +202,17 @@ def test_the_decoders_upright_keypoint_prior_is_where_sampled_walkers_have_their
     np.testing.assert_allclose(np.median(offsets, axis=0), UPRIGHT_OFFSETS, atol=0.02)
     assert np.median(offsets[:, [K["left_ankle"], K["right_ankle"]]].max(axis=1)) == pytest.approx(
         LOWER_ANKLE_OFFSET, abs=0.015)
+
+
+def test_the_trackers_face_placement_is_where_sampled_walkers_have_their_nose_and_eyes(body_model) -> None:
+    """The tracker turns a walker's face by :data:`FACE_AHEAD_OF_EARS` (nose and eyes ahead of the ears' midpoint,
+    in heights): the rendered people's own, or a profile's nose lands off the face it is drawn on."""
+    rng = np.random.default_rng(11)
+    people = [sample_phenotype(rng) for _ in range(48)]
+    posed = body_model.pose(people, [sample_gait(rng) for _ in people])
+    top = posed.vertices[..., 2].max(axis=1)
+    ears = 0.5 * (posed.keypoints[:, K["left_ear"], 0] + posed.keypoints[:, K["right_ear"], 0])  # bodies face +x
+    nose = (posed.keypoints[:, K["nose"], 0] - ears) / top
+    eyes = (0.5 * (posed.keypoints[:, K["left_eye"], 0] + posed.keypoints[:, K["right_eye"], 0]) - ears) / top
+    assert np.median(nose) == pytest.approx(FACE_AHEAD_OF_EARS["nose"], abs=0.004)
+    assert np.median(eyes) == pytest.approx(FACE_AHEAD_OF_EARS["eyes"], abs=0.004)

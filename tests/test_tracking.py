@@ -10,11 +10,14 @@ import pytest
 
 from vc.deploy.heatmaps import PAIRS
 from vc.deploy.runtime import Person
-from vc.deploy.tracking import Tracker, TrackingConfig, facing_pairs, vertical_speed
+from vc.deploy.tracking import FACE_AHEAD_OF_EARS, Tracker, TrackingConfig, facing_pairs, foot_speed
 from vc.keypoints import COCO_KEYPOINTS
 
 HEIGHT = 100.0
 LEFT_SHOULDER, RIGHT_SHOULDER = COCO_KEYPOINTS.index("left_shoulder"), COCO_KEYPOINTS.index("right_shoulder")
+NOSE = COCO_KEYPOINTS.index("nose")
+EYES = [COCO_KEYPOINTS.index("left_eye"), COCO_KEYPOINTS.index("right_eye")]
+EARS = [COCO_KEYPOINTS.index("left_ear"), COCO_KEYPOINTS.index("right_ear")]
 
 
 def _person(x: float, feet_y: float, handedness: float) -> Person:
@@ -44,10 +47,10 @@ def _seen_from_behind(person: Person) -> bool:
 
 def test_the_speed_of_a_straight_walk_is_exact_and_its_error_floored_by_the_jitter():
     times = np.arange(8) / 10.0
-    speed, error = vertical_speed(times, 200.0 - 50.0 * times, HEIGHT, jitter_heights=0.02)
+    speed, error = foot_speed(times, 200.0 - 50.0 * times, HEIGHT, jitter_heights=0.02)
     assert speed == pytest.approx(-0.5)  # 50 px/s up the image, 100 px tall: half a height per second
     assert error == pytest.approx(0.02 / np.sqrt(((times - times.mean()) ** 2).sum()))
-    assert vertical_speed(np.zeros(3), np.zeros(3), HEIGHT, 0.02) == (0.0, float("inf"))
+    assert foot_speed(np.zeros(3), np.zeros(3), HEIGHT, 0.02) == (0.0, float("inf"))
 
 
 @pytest.mark.parametrize("speed, behind", [(-60.0, True), (60.0, False)])
@@ -79,6 +82,23 @@ def test_a_confident_network_keeps_its_facing_unless_the_motion_is_clear():
     walking = _walk(Tracker(config), -60.0, handedness=-(config.trust_network + 0.2))
     assert walking[-1].facing == "motion" and _seen_from_behind(walking[-1])
 
+
+
+@pytest.mark.parametrize("across_px_per_s, share", [(30.0, 0.4), (-150.0, -1.0), (0.0, 0.0)])
+def test_a_walker_s_face_turns_the_way_they_cross_the_view(across_px_per_s, share):
+    """Nose and eyes go ahead of the ears' midpoint by the body model's distances times the share of the walk that
+    crosses the view (0.3 heights a second of the 0.75 of a full profile: 0.4), the eyes' spacing kept."""
+    tracker, fps, ears_x = Tracker(), 10.0, 300.0
+    for k in range(8):
+        person = _person(ears_x + across_px_per_s * k / fps, 300.0 + 60.0 * k / fps, handedness=0.05)
+        person.keypoints[[NOSE, *EYES], 0] += [5.0, 1.0, 9.0]  # the network's own guesses, away from the ears
+        walker = tracker.update([person], k / fps)[0]
+    assert walker.facing == "motion"
+    ears = float(walker.keypoints[EARS, 0].mean())
+    assert walker.keypoints[NOSE, 0] - ears == pytest.approx(FACE_AHEAD_OF_EARS["nose"] * HEIGHT * share)
+    eyes = walker.keypoints[EYES, 0]
+    assert eyes.mean() - ears == pytest.approx(FACE_AHEAD_OF_EARS["eyes"] * HEIGHT * share)
+    assert abs(eyes[0] - eyes[1]) == pytest.approx(abs(person.keypoints[EYES[0], 0] - person.keypoints[EYES[1], 0]))
 
 def test_facing_exchanges_only_the_pairs_the_network_ordered_the_other_way():
     person = _person(300.0, 300.0, handedness=0.5)
