@@ -60,7 +60,8 @@ class Person:
     mask_origin: tuple[int, int]  # frame pixel (x, y) of mask[0, 0]
     pair_handedness: np.ndarray | None = None  # (8,) the network's per pair (vc.deploy.decode.DecodedPerson)
     track: int | None = None  # set by a vc.deploy.tracking.Tracker
-    facing: str = "appearance"  # what ordered the left/right pairs: "appearance" (the network) or "motion"
+    facing: str = "appearance"  # what ordered the left/right pairs: "appearance" (the network) or "motion" (the
+    #                             tracker, which also turned the face the way the person walks)
     coasted: bool = False  # not seen in this frame: carried by its track (vc.deploy.tracking), without a mask
     weak: bool = False  # below the bundle's centre threshold: decoded only for a tracker to continue a track with
     across_seam: bool = False  # feet in a neighbour's owned area, kept within SEAM_FOOT_TOLERANCE (module docstring)

@@ -141,12 +141,12 @@ def foot_speed(times: np.ndarray, foot: np.ndarray, height: float, jitter_height
     toward the camera; x: > 0 to the image's right) and its standard error, the residuals' variance floored at
     ``jitter_heights`` squared (step 2)."""
     t = times - times.mean()
-    y = foot / height
+    position = foot / height
     spread = float(t @ t)
     if len(t) < 3 or spread <= 0.0:
         return 0.0, float("inf")
-    slope = float(t @ (y - y.mean()) / spread)
-    residuals = y - y.mean() - slope * t
+    slope = float(t @ (position - position.mean()) / spread)
+    residuals = position - position.mean() - slope * t
     variance = max(float(residuals @ residuals) / (len(t) - 2), jitter_heights**2)
     return slope, float(np.sqrt(variance / spread))
 
