@@ -458,3 +458,22 @@ def test_a_setting_measured_with_several_seeds_is_one_choice_at_its_mean():
     winter = chosen["clothing winter (3 seeds)"]
     assert winter["real_ap50"] == pytest.approx(0.8873, abs=1e-4) and winter["compile_minutes"] == 36.0
     assert winter["seeds"] == 3
+
+
+def test_the_runtime_profile_accounts_for_each_region_and_the_whole_frame(bundle, tmp_path):
+    """Every region's network and decoding, its ONNX operators (the in-graph resize among them where the crop is
+    not the input size) and the tracker are timed, and the report names them."""
+    profile = load_benchmark("runtime_profile")
+    width, height = load_bundle(bundle).frame_size
+    frames = [np.random.default_rng(k).integers(0, 255, (height, width, 3), np.uint8) for k in range(4)]
+    result = profile.profile(bundle, frames, threads=2, fps=10.0)
+    assert result["frames"] == 4 and result["parallel_ms"] > 0 and result["in_turn_ms"] > 0
+    assert result["tracker_ms"] >= 0
+    for name, region in result["regions"].items():
+        assert region["network_ms"] > 0 and region["decode_ms"] > 0
+        operators = region["operators_ms_one_thread"]
+        assert "Conv" in " ".join(operators) and all(ms >= 0 for ms in operators.values())
+        assert ("Resize" in operators) == (region["crop"] != region["input"]), name
+    result["machine"] = "test"
+    report = profile.report(result, bundle, tmp_path / "clip.avi")
+    assert all(f"| {name} |" in report for name in result["regions"]) and "clip.avi" in report
