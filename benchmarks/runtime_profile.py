@@ -85,8 +85,8 @@ def profile(bundle: Path, frames: list[np.ndarray], threads: int, fps: float) ->
         people = [runtime(frame) for frame in frames]
     tracker = Tracker()
     started = time.perf_counter()
-    for index, seen in enumerate(people):
-        tracker.update(seen, index / fps)
+    for index, (seen, frame) in enumerate(zip(people, frames, strict=True)):
+        tracker.update(seen, index / fps, frame)
     result["tracker_ms"] = round((time.perf_counter() - started) / len(people) * 1e3, 3)
     return result
 

@@ -208,7 +208,7 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
             people: list[Person] = runtime(frame.image)
             single_frame_seconds = time.perf_counter() - start
             on_its_own = [person for person in people if not person.weak]  # what the bundle reports without a tracker
-            tracked = tracker.update(people, frame.number / rate) if tracker else people
+            tracked = tracker.update(people, frame.number / rate, frame.image) if tracker else people
             seconds = time.perf_counter() - start
             if not scored:
                 continue

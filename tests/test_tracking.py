@@ -10,7 +10,15 @@ import pytest
 
 from vc.deploy.heatmaps import PAIRS
 from vc.deploy.runtime import Person
-from vc.deploy.tracking import FACE_AHEAD_OF_EARS, Tracker, TrackingConfig, facing_pairs, foot_speed
+from vc.deploy.tracking import (
+    FACE_AHEAD_OF_EARS,
+    Tracker,
+    TrackingConfig,
+    appearance,
+    appearance_distance,
+    facing_pairs,
+    foot_speed,
+)
 from vc.keypoints import COCO_KEYPOINTS
 
 HEIGHT = 100.0
@@ -217,3 +225,36 @@ def test_weak_people_only_continue_tracks_seen_before():
     # A weak peak never starts a track, so it cannot continue one either.
     fresh = Tracker()
     assert fresh.update([weak(_person(300.0, 300.0, 0.5))], 0.0) == [] and fresh.tracks == []
+
+
+def _dressed(frame: np.ndarray, x: float, top: tuple[int, int, int], bottom: tuple[int, int, int]) -> Person:
+    """A person standing at ``x`` (feet at y 300) whose mask is a strip 10 px wide down their middle, painted into
+    ``frame`` in ``top`` above the waist and ``bottom`` below it."""
+    person = _person(x, 300.0, 0.0)
+    left, head = int(x) - 5, int(300.0 - HEIGHT)
+    frame[head:head + 50, left:left + 10] = top
+    frame[head + 50:300, left:left + 10] = bottom
+    return replace(person, mask=np.ones((int(HEIGHT), 10), bool), mask_origin=(left, head))
+
+
+def test_a_person_s_colours_are_counted_above_and_below_the_waist():
+    frame = np.zeros((400, 600, 3), np.uint8)
+    person = _dressed(frame, 300.0, top=(250, 10, 10), bottom=(10, 10, 250))
+    look = appearance(person, frame)
+    assert look.shape == (2, 64) and np.allclose(look.sum(axis=1), 1.0)
+    assert look[0].argmax() == 3 * 16 and look[1].argmax() == 3  # red above, blue below (4 levels a channel)
+    assert appearance_distance(look, look) == pytest.approx(0.0)
+    assert appearance_distance(look, look[::-1]) == pytest.approx(1.0)  # the same colours the other way up
+    assert appearance(replace(person, mask=np.zeros((0, 0), bool)), frame) is None
+
+
+@pytest.mark.parametrize("weight, kept", [(0.0, False), (0.3, True)])
+def test_clothing_colours_keep_two_people_their_tracks_where_their_positions_swap(weight, kept):
+    """Two people 0.4 heights apart stand still; then each is found nearer the other's place (as a detector's
+    boxes jitter in a group). By position alone the tracks swap; their clothes keep them."""
+    tracker = Tracker(TrackingConfig(appearance_weight=weight))
+    red, blue = ((250, 10, 10), (250, 10, 10)), ((10, 10, 250), (10, 200, 10))
+    for k, (x_red, x_blue) in enumerate([(300.0, 340.0)] * 3 + [(325.0, 315.0)]):
+        frame = np.zeros((400, 600, 3), np.uint8)
+        people = tracker.update([_dressed(frame, x_red, *red), _dressed(frame, x_blue, *blue)], k / 10.0, frame)
+    assert ([person.track for person in people] == [1, 2]) == kept

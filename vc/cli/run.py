@@ -106,7 +106,7 @@ def main(argv: list[str] | None = None) -> int:
                     start = time.perf_counter()
                     people = runtime(frame.image)
                     if tracker is not None:
-                        people = tracker.update(people, frame.number / rate)
+                        people = tracker.update(people, frame.number / rate, frame.image)
                     milliseconds.append((time.perf_counter() - start) * 1e3)
                     people_count += len(people)
                     coasted_count += sum(person.coasted for person in people)
