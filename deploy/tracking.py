@@ -31,8 +31,8 @@ the time unseen: precision pays little, as the score ranks it below what is seen
    are (:func:`appearance`: colour histograms of the mask's pixels above and below the waist, a running mean per
    track; ``appearance_weight`` heights for no colour in common): in a group, detections jitter by more than
    people stand apart, and position alone hands one person's track to a neighbour. A person without a track
-   starts one. A track not seen for ``max_gap_s`` ends. (Without
-   the velocity, tracks hopped between people walking close together: IDF1 0.46 against 0.63 on PETS09.)
+   starts one. A track not seen for ``max_gap_s`` ends. (Without the velocity, tracks hopped between people
+   walking close together: IDF1 0.46 against 0.63 on PETS09.)
    1b. Weak people (``Person.weak``: centre peaks below the bundle's threshold, decoded down to
    ``weak_people_above`` for the tracker) are then matched the same way to the tracks still unmatched that were
    seen at least ``coast_min_observations`` times; a weak person who continues no such track is dropped. A person
@@ -80,6 +80,11 @@ FACE_AHEAD_OF_EARS = {"nose": 0.062, "eyes": 0.048}
 _NOSE = COCO_KEYPOINTS.index("nose")
 _EYES = [COCO_KEYPOINTS.index("left_eye"), COCO_KEYPOINTS.index("right_eye")]
 _EARS = [COCO_KEYPOINTS.index("left_ear"), COCO_KEYPOINTS.index("right_ear")]
+
+#: Levels per RGB channel of the colour histograms that tell people apart (4: 64 colours, coarse enough for a
+#: person's clothes to keep theirs under changing light) and how much of a track's histogram each sighting renews.
+APPEARANCE_LEVELS = 4
+APPEARANCE_RENEWAL = 0.3
 
 
 @dataclass(frozen=True)
@@ -183,12 +188,6 @@ def face_ahead(keypoints: np.ndarray, height: float, across: float) -> np.ndarra
     return turned
 
 
-#: Levels per RGB channel of the colour histograms that tell people apart (4: 64 colours, coarse enough for a
-#: person's clothes to keep theirs under changing light) and how much of a track's histogram each sighting renews.
-APPEARANCE_LEVELS = 4
-APPEARANCE_RENEWAL = 0.3
-
-
 def appearance(person: Person, frame: np.ndarray) -> np.ndarray | None:
     """Colour histograms (2, 64), each summing to 1, of the frame's pixels under the person's mask, upper half and
     lower half (clothes above and below the waist); None for a person without mask pixels."""
@@ -214,8 +213,9 @@ def appearance_distance(a: np.ndarray, b: np.ndarray) -> float:
 
 
 class Tracker:
-    """``tracker.update(people, time_s)`` -> the same people with ``track`` set and, where their motion tells
-    which way they face, their pairs ordered by it (``facing == "motion"``). Feed frames in time order."""
+    """``tracker.update(people, time_s, frame)`` -> the same people with ``track`` set and, where their motion
+    tells which way they face, their pairs ordered and faces turned by it (``facing == "motion"``). Feed frames in
+    time order; without ``frame``, people are told apart by position alone."""
 
     def __init__(self, config: TrackingConfig = TrackingConfig()) -> None:
         self.config = config
