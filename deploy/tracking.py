@@ -154,13 +154,16 @@ def foot_speed(times: np.ndarray, foot: np.ndarray, height: float, jitter_height
     """Least-squares speed of one coordinate of the foot point (person heights per second; y: > 0 down the image,
     toward the camera; x: > 0 to the image's right) and its standard error, the residuals' variance floored at
     ``jitter_heights`` squared (step 2)."""
-    t = times - times.mean()
+    # sum / count rather than .mean(): the same numbers, without numpy's per-call overhead on a handful of values
+    # (the tracker fits two of these per person per frame)
+    t = times - times.sum() / len(times)
     position = foot / height
     spread = float(t @ t)
     if len(t) < 3 or spread <= 0.0:
         return 0.0, float("inf")
-    slope = float(t @ (position - position.mean()) / spread)
-    residuals = position - position.mean() - slope * t
+    centred = position - position.sum() / len(position)
+    slope = float(t @ centred / spread)
+    residuals = centred - slope * t
     variance = max(float(residuals @ residuals) / (len(t) - 2), jitter_heights**2)
     return slope, float(np.sqrt(variance / spread))
 
@@ -233,13 +236,14 @@ class Tracker:
         self.tracks = [t for t in self.tracks if time_s - t.times[-1] <= config.max_gap_s]
         looks = ({id(p): appearance(p, frame) for p in people}
                  if frame is not None and config.appearance_weight > 0 else {})
+        predicted = {id(track): track.predicted_foot(time_s) for track in self.tracks}
         strong = [p for p in people if not p.weak]
         weak = [p for p in people if p.weak]
-        matched = list(zip(strong, self._associate(strong, self.tracks, time_s, True, looks), strict=True))
+        matched = list(zip(strong, self._associate(strong, self.tracks, time_s, True, looks, predicted), strict=True))
         taken = {id(track) for _, track in matched}
         confirmed = [t for t in self.tracks if id(t) not in taken and t.observations >= config.coast_min_observations]
         matched += [(person, track) for person, track in
-                    zip(weak, self._associate(weak, confirmed, time_s, False, looks), strict=True) if track]
+                    zip(weak, self._associate(weak, confirmed, time_s, False, looks, predicted), strict=True) if track]
         result = []
         for person, track in matched:
             track.add(time_s, person.box, config.window_s)
@@ -254,25 +258,28 @@ class Tracker:
         return result + self._carried([t for t in self.tracks if id(t) not in seen], boxes, time_s)
 
     def _associate(self, people: list[Person], tracks: list[_Track], time_s: float, start_new: bool,
-                   looks: dict[int, np.ndarray | None]) -> list[_Track | None]:
+                   looks: dict[int, np.ndarray | None], predicted: dict[int, np.ndarray]) -> list[_Track | None]:
         """Step 1: each person's track among ``tracks``; without one, a new track or None. ``looks``: the people's
-        colour histograms by ``id``, where they weigh in."""
+        colour histograms by ``id``, where they weigh in; ``predicted``: each track's foot point at ``time_s``,
+        by the track's ``id``."""
+        config = self.config
         boxes = np.array([p.box for p in people], np.float64).reshape(-1, 4)
         feet, heights = foot_points(boxes), np.maximum(boxes[:, 3] - boxes[:, 1], 1.0)
-        candidates = []
-        predicted = [track.predicted_foot(time_s) for track in tracks]
-        for i, (foot, height) in enumerate(zip(feet, heights, strict=True)):
-            for j, track in enumerate(tracks):
-                distance = float(np.hypot(*(foot - predicted[j]))) / height
-                gate = self.config.gate_heights + self.config.max_speed_heights_per_s * (time_s - track.times[-1])
-                if distance <= gate:
-                    look = looks.get(id(people[i]))
-                    if look is not None and track.appearance is not None:
-                        distance += self.config.appearance_weight * appearance_distance(look, track.appearance)
-                    candidates.append((distance, i, j))
+        expected = np.array([predicted[id(track)] for track in tracks], np.float64).reshape(-1, 2)
+        gates = config.gate_heights + config.max_speed_heights_per_s * (
+            time_s - np.array([track.times[-1] for track in tracks], np.float64))
+        distances = np.hypot(feet[:, None, 0] - expected[None, :, 0],
+                             feet[:, None, 1] - expected[None, :, 1]) / heights[:, None]  # (people, tracks)
+        rows, columns = np.nonzero(distances <= gates[None, :])
+        costs = distances[rows, columns]
+        for k, (i, j) in enumerate(zip(rows.tolist(), columns.tolist(), strict=True)):
+            look, track_look = looks.get(id(people[i])), tracks[j].appearance
+            if look is not None and track_look is not None:
+                costs[k] += config.appearance_weight * appearance_distance(look, track_look)
         assigned: dict[int, _Track] = {}
         taken: set[int] = set()
-        for _, i, j in sorted(candidates):
+        for k in np.lexsort((columns, rows, costs)).tolist():  # cheapest first; ties in (person, track) order
+            i, j = int(rows[k]), int(columns[k])
             if i not in assigned and j not in taken:
                 assigned[i] = tracks[j]
                 taken.add(j)
@@ -291,7 +298,7 @@ class Tracker:
         if len(track.times) < config.min_observations:  # the track holds its window's observations only
             return person
         boxes, times = np.array(track.boxes), np.array(track.times)
-        feet, height = foot_points(boxes), float(np.mean(boxes[:, 3] - boxes[:, 1]))
+        feet, height = foot_points(boxes), float((boxes[:, 3] - boxes[:, 1]).sum() / len(boxes))
         speed, error = foot_speed(times, feet[:, 1], height, config.foot_jitter_heights)
         clear = abs(speed) >= config.min_significance * error
         if speed == 0.0 or not (clear or abs(person.handedness) < config.trust_network):
@@ -324,8 +331,8 @@ class Tracker:
 
 def box_velocity(times: np.ndarray, boxes: np.ndarray) -> np.ndarray:
     """Least-squares velocity (4,) of boxes (N, 4) over times (N,), frame px per second; zero from one box."""
-    t = times - times.mean()
+    t = times - times.sum() / len(times)  # as in foot_speed
     spread = float(t @ t)
     if spread <= 0.0:
         return np.zeros(4)
-    return t @ (boxes - boxes.mean(axis=0)) / spread
+    return t @ (boxes - boxes.sum(axis=0) / len(boxes)) / spread
