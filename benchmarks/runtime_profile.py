@@ -25,13 +25,29 @@ import onnxruntime as ort
 
 from vc.cores import cpu_facts, usable_cores
 from vc.deploy.frames import FrameRange, FrameSource
-from vc.deploy.runtime import Runtime
+from vc.deploy.runtime import RegionRunner, Runtime
 from vc.deploy.tracking import Tracker
 from vc.io import write_json
 
 
 def _median_ms(seconds: list[float]) -> float:
     return round(float(np.median(seconds)) * 1e3, 3)
+
+
+def _region(runner: RegionRunner, frames: list[np.ndarray]) -> dict:
+    """One region's network and decoding times (medians over the frames) and its ONNX operators' on one thread."""
+    network, decoding = [], []
+    for frame in frames:
+        started = time.perf_counter()
+        maps = runner.heatmaps(frame)
+        middle = time.perf_counter()
+        runner.people_in(maps)
+        network.append(middle - started)
+        decoding.append(time.perf_counter() - middle)
+    x0, y0, width, height = runner.entry.crop_window
+    crops = [np.ascontiguousarray(frame[y0:y0 + height, x0:x0 + width]) for frame in frames]
+    return {"crop": [width, height], "input": list(runner.entry.input_size), "network_ms": _median_ms(network),
+            "decode_ms": _median_ms(decoding), "operators_ms_one_thread": operator_times(runner.entry.model, crops)}
 
 
 def operator_times(model: bytes, crops: list[np.ndarray]) -> dict[str, float]:
@@ -59,30 +75,15 @@ def profile(bundle: Path, frames: list[np.ndarray], threads: int, fps: float) ->
         with Runtime(bundle, threads=threads, parallel_regions=parallel) as runtime:
             for frame in frames[:3]:
                 runtime(frame)
-            seconds = []
+            seconds, people = [], []
             for frame in frames:
                 started = time.perf_counter()
-                runtime(frame)
+                people.append(runtime(frame))
                 seconds.append(time.perf_counter() - started)
             result["parallel_ms" if parallel else "in_turn_ms"] = _median_ms(seconds)
-    with Runtime(bundle, threads=threads, parallel_regions=False) as runtime:
-        for runner in runtime.runners:
-            network, decoding, heatmaps = [], [], []
-            for frame in frames:
-                started = time.perf_counter()
-                maps = runner.heatmaps(frame)
-                middle = time.perf_counter()
-                runner.people_in(maps)
-                network.append(middle - started)
-                decoding.append(time.perf_counter() - middle)
-                heatmaps.append(maps.shape)
-            x0, y0, width, height = runner.entry.crop_window
-            crops = [np.ascontiguousarray(frame[y0:y0 + height, x0:x0 + width]) for frame in frames]
-            result["regions"][runner.entry.name] = {
-                "crop": [width, height], "input": list(runner.entry.input_size),
-                "network_ms": _median_ms(network), "decode_ms": _median_ms(decoding),
-                "operators_ms_one_thread": operator_times(runner.entry.model, crops)}
-        people = [runtime(frame) for frame in frames]
+            if not parallel:  # the regions one by one, each with all the threads, as the frame just ran them
+                for runner in runtime.runners:
+                    result["regions"][runner.entry.name] = _region(runner, frames)
     tracker = Tracker()
     started = time.perf_counter()
     for index, (seen, frame) in enumerate(zip(people, frames, strict=True)):
