@@ -33,6 +33,7 @@ MASK_CHANNEL = 1 + len(COCO_KEYPOINTS)
 PAIRS: tuple[tuple[int, int], ...] = tuple(
     (index, COCO_KEYPOINTS.index(name.replace("left_", "right_")))
     for index, name in enumerate(COCO_KEYPOINTS) if name.startswith("left_"))
+_LEFT_MEMBERS, _RIGHT_MEMBERS = (np.array(members) for members in zip(*PAIRS, strict=True))
 HANDEDNESS_CHANNELS = slice(MASK_CHANNEL + 1, MASK_CHANNEL + 1 + len(PAIRS))
 HEATMAP_CHANNELS = HANDEDNESS_CHANNELS.stop
 ANATOMICAL_CHANNELS = MASK_CHANNEL + 1
@@ -50,11 +51,10 @@ LAYOUTS = (ANATOMICAL_CHANNELS, HEATMAP_CHANNELS, OFFSET_CHANNELS)
 def swap_pairs(keypoints: np.ndarray, swapped) -> np.ndarray:
     """A copy of keypoints (17, k) with the two members of each pair (:data:`PAIRS`) exchanged where ``swapped``
     (one flag per pair) is true: image order <-> anatomical order, in either direction."""
-    result = np.array(keypoints, copy=True)
-    for (left, right), swap in zip(PAIRS, swapped, strict=True):
-        if swap:
-            result[[left, right]] = result[[right, left]]
-    return result
+    swapped = np.asarray(swapped, bool)
+    order = np.arange(len(COCO_KEYPOINTS))
+    order[_LEFT_MEMBERS[swapped]], order[_RIGHT_MEMBERS[swapped]] = _RIGHT_MEMBERS[swapped], _LEFT_MEMBERS[swapped]
+    return np.asarray(keypoints)[order]  # fancy indexing copies
 
 
 def channel_names(channels: int = HEATMAP_CHANNELS) -> tuple[str, ...]:

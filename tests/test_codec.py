@@ -11,7 +11,16 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from vc.deploy.decode import DecodeConfig, _keypoints, _update_window_sums, _window_sums, decode, find_peaks
+from vc.deploy.decode import (
+    DecodeConfig,
+    _keypoints,
+    _median,
+    _update_window_sums,
+    _window_sums,
+    decode,
+    find_peaks,
+    local_maxima,
+)
 from vc.deploy.heatmaps import (
     ANATOMICAL_CHANNELS,
     CENTRE_CHANNEL,
@@ -24,6 +33,7 @@ from vc.deploy.heatmaps import (
     PAIRS,
     cells_to_input,
     input_to_cells,
+    swap_pairs,
 )
 from vc.model.codec import CodecConfig, encode
 from vc.model.train import centre_map_settings
@@ -352,3 +362,58 @@ def test_window_sums_brought_up_to_date_around_emptied_cells_equal_summing_again
     _update_window_sums(sums, grid, radius, row, column)
     np.testing.assert_allclose(sums, _window_sums(grid, radius), atol=1e-12)
     assert sums[row, column] == pytest.approx(0.0, abs=1e-12)
+
+
+def _peaks_by_definition(maps: np.ndarray, threshold: float) -> set[tuple[int, int, int]]:
+    """(map, row, column) of every cell above ``threshold``, at least as high as its 8 neighbours and strictly
+    higher than the 4 before it in reading order: local_maxima's rule, one cell at a time."""
+    channels, height, width = maps.shape
+    peaks = set()
+    for channel, row, column in np.ndindex(channels, height, width):
+        value = maps[channel, row, column]
+        neighbours = [(dy, dx) for dy in (-1, 0, 1) for dx in (-1, 0, 1) if (dy, dx) != (0, 0)
+                      and 0 <= row + dy < height and 0 <= column + dx < width]
+        before = [(dy, dx) for dy, dx in neighbours if (dy, dx) < (0, 0)]
+        if value > threshold and all(value >= maps[channel, row + dy, column + dx] for dy, dx in neighbours) and all(
+                value > maps[channel, row + dy, column + dx] for dy, dx in before):
+            peaks.add((channel, row, column))
+    return peaks
+
+
+@pytest.mark.parametrize("windows", [None, [(0, 12, 0, 7), (0, 12, 7, 20)], [(3, 9, 2, 5), (0, 4, 11, 20)]])
+def test_local_maxima_are_the_peaks_by_definition_in_the_whole_map_or_in_windows(windows) -> None:
+    # Coarse values (as int8 networks give) make ties, plateaus included; windows meet the map's borders and each
+    # other, and their peaks are judged against neighbours outside them.
+    maps = np.round(np.random.default_rng(3).uniform(0.0, 1.0, (3, 12, 20)) * 6) / 6
+    maps[1, 4:7, 8:11] = 1.0  # a plateau: its first cell in reading order only
+    found, values, positions = local_maxima(maps, 0.2, windows=windows)
+    expected = {(c, r, x) for c, r, x in _peaks_by_definition(maps, 0.2)
+                if windows is None or any(top <= r < bottom and left <= x < right
+                                          for top, bottom, left, right in windows)}
+    assert len(found) == len(expected)
+    for channel, row, column in expected:  # a refined position stays within half a cell of its peak's cell
+        assert np.any((found == channel) & (np.abs(positions - [column, row]) <= 0.5).all(axis=1))
+        assert values[(found == channel) & (np.abs(positions - [column, row]) <= 0.5).all(axis=1)][0] == maps[
+            channel, row, column]
+    if windows is None:
+        assert (1, 4, 8) in expected and (1, 4, 9) not in expected
+    for channel in range(3):  # strongest first within each map
+        assert np.all(np.diff(values[found == channel]) <= 0)
+    assert len(local_maxima(maps, 0.2, windows=[])[0]) == 0
+
+
+def test_pairs_are_exchanged_where_flagged_and_nowhere_else() -> None:
+    keypoints = np.arange(17 * 3, dtype=float).reshape(17, 3)
+    flags = np.array([True, False, False, True, False, False, False, True])  # eyes, elbows, ankles
+    swapped = swap_pairs(keypoints, flags)
+    for (left, right), flag in zip(PAIRS, flags, strict=True):
+        assert np.array_equal(swapped[[left, right]], keypoints[[right, left]] if flag else keypoints[[left, right]])
+    assert np.array_equal(swapped[0], keypoints[0])  # the nose has no pair
+    assert np.array_equal(swap_pairs(swapped, flags), keypoints)
+    assert not np.shares_memory(swap_pairs(keypoints, np.zeros(8, bool)), keypoints)
+
+
+@pytest.mark.parametrize("count", [1, 2, 7, 10])
+def test_the_vote_step_s_median_is_numpy_s(count) -> None:
+    values = np.random.default_rng(count).uniform(20.0, 90.0, count)
+    assert _median(values) == np.median(values)
