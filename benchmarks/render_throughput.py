@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import platform
 import shutil
 import tempfile
 import time
@@ -42,6 +41,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from vc.cores import cpu_facts  # noqa: E402
 from vc.io import write_json  # noqa: E402
 from vc.render import dataset  # noqa: E402
 from vc.render.bodies import BodyModel  # noqa: E402
@@ -94,13 +94,6 @@ def photometry_off(scene: Scene) -> Scene:
     return replace(scene, lighting=Lighting(), effects=geometric, video_path=None)
 
 
-def cpu_model() -> str:
-    for line in Path("/proc/cpuinfo").read_text().splitlines() if Path("/proc/cpuinfo").is_file() else []:
-        if line.startswith("model name"):
-            return line.split(":", 1)[1].strip()
-    return platform.processor() or "unknown"
-
-
 def compare_photometry(scene: Scene, bodies: BodyModel, samples: int, warmup: int, scratch: Path) -> list[dict]:
     """Per region, samples/s with photometric matching off and matched, measured in turn in this process."""
     regions = plan_regions(scene)
@@ -149,11 +142,11 @@ def compare_processes(scene_path: Path, counts: list[int], samples: int, scratch
 def _write_processes(rows: list[dict], scene_path: Path, out: Path) -> None:
     from vc.render.mitsuba_setup import mitsuba
 
-    variant = mitsuba().variant()
-    write_json(out / "render_throughput_processes.json", {"scene": str(scene_path), "machine": cpu_model(),
+    variant, machine = mitsuba().variant(), cpu_facts()[0]
+    write_json(out / "render_throughput_processes.json", {"scene": str(scene_path), "machine": machine,
                                                           "mitsuba_variant": variant, "shard_size": PROCESS_SHARD,
                                                           "rows": rows})
-    lines = [f"Render stage of {scene_path}, 16 spp, {rows[0]['samples']} samples over its regions, on {cpu_model()} "
+    lines = [f"Render stage of {scene_path}, 16 spp, {rows[0]['samples']} samples over its regions, on {machine} "
              f"with Mitsuba `{variant}` (`python benchmarks/render_throughput.py --processes ...`).", "",
              "| renderers | seconds | samples/s | against one process |", "|---|---|---|---|"]
     lines += [f"| {r['processes']} ({r['executor']}) | {r['seconds']} | {r['samples_per_second']} | "
@@ -163,9 +156,10 @@ def _write_processes(rows: list[dict], scene_path: Path, out: Path) -> None:
 
 
 def _write_photometry(rows: list[dict], out: Path) -> None:
-    write_json(out / "render_throughput_photometry.json", {"cpu": cpu_model(), "spp": REFERENCE_SPP, "rows": rows})
+    machine = cpu_facts()[0]
+    write_json(out / "render_throughput_photometry.json", {"cpu": machine, "spp": REFERENCE_SPP, "rows": rows})
     lines = [f"Render throughput with photometric matching off and matched, {REFERENCE_SPP} spp, one run on "
-             f"{cpu_model()}",
+             f"{machine}",
              "", "| region | input | off samples/s | matched samples/s | slower by ms/sample | effects ms/sample |",
              "|---|---|---|---|---|---|"]
     for r in rows:
