@@ -167,7 +167,8 @@ def local_maxima(maps: np.ndarray, threshold: float, limit: int | None = None,
     """The local maxima above ``threshold`` of each of ``maps`` (C, h, w), all maps at once: their map (K,),
     value (K,) and sub-cell (x, y) (K, 2), ordered by map and, within a map, strongest first; at most ``limit``
     a map. ``windows`` (row start, row stop, column start, column stop; not overlapping): only the peaks inside
-    them, each judged against its neighbours in the whole map — the peaks a search of the whole map finds there.
+    them, each judged against its neighbours in the whole map — the peaks a search of the whole map finds there;
+    ``limit`` then counts the windows' peaks only.
 
     A peak is at least as high as its 8 neighbours and strictly higher than the 4 that come before it in
     reading order, so a plateau of equal values yields its first cell only.
@@ -420,10 +421,11 @@ def _search_windows(expected: np.ndarray, reach: np.ndarray,
     only."""
     height, width = shape
     margin = reach + 0.5  # a peak's sub-cell position lies within half a cell of its cell
-    starts = np.floor(expected[:, 0, 0] - margin).astype(int).clip(0, width)
-    stops = (np.ceil(expected[:, 0, 0] + margin).astype(int) + 1).clip(0, width)
-    tops = np.floor(expected[..., 1].min(axis=1) - margin).astype(int).clip(0, height)
-    bottoms = (np.ceil(expected[..., 1].max(axis=1) + margin).astype(int) + 1).clip(0, height)
+    # (np.minimum/np.maximum rather than np.clip, as in _refine_many)
+    starts = np.minimum(np.maximum(np.floor(expected[:, 0, 0] - margin).astype(int), 0), width)
+    stops = np.minimum(np.maximum(np.ceil(expected[:, 0, 0] + margin).astype(int) + 1, 0), width)
+    tops = np.minimum(np.maximum(np.floor(expected[..., 1].min(axis=1) - margin).astype(int), 0), height)
+    bottoms = np.minimum(np.maximum(np.ceil(expected[..., 1].max(axis=1) + margin).astype(int) + 1, 0), height)
     windows: list[tuple[int, int, int, int]] = []
     for person in np.argsort(starts, kind="stable").tolist():
         if starts[person] >= stops[person] or tops[person] >= bottoms[person]:
