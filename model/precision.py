@@ -4,9 +4,9 @@
   Meant for GPUs and NPUs: a CPU without fp16 arithmetic runs it slower than fp32 (onnxruntime casts around
   every node).
 - ``int8``: onnxruntime static quantization (QDQ: int8 weights per output channel, uint8 activations) of the
-  network's operators (:data:`QUANTIZED_OPS`), calibrated on the region's training renders. Heat-map heads are where int8 is known to break
-  (peaks flatten into quantisation steps), so the export measures every precision on held-out renders and
-  ``auto`` keeps int8 only where it holds.
+  network's operators (:data:`QUANTIZED_OPS`), calibrated on the region's training renders. Heat-map heads are
+  where int8 is known to break (peaks flatten into quantisation steps), so the export measures every precision on
+  held-out renders and ``auto`` keeps int8 only where it holds.
 
 The renders are region inputs; the deployed graph takes the region's crop of the frame and resizes it itself, so
 renders are resized to the crop size (bilinear) before they go in: calibration and measurement see the graph as
