@@ -4,7 +4,8 @@
   Meant for GPUs and NPUs: a CPU without fp16 arithmetic runs it slower than fp32 (onnxruntime casts around
   every node).
 - ``int8``: onnxruntime static quantization (QDQ: int8 weights per output channel, uint8 activations) of the
-  network's operators (:data:`QUANTIZED_OPS`), calibrated on the region's training renders. Heat-map heads are
+  network's operators (:data:`QUANTIZED_OPS`), calibrated on the region's training renders, the input excepted: the
+  crop's pixels go into the first convolution as they are (:mod:`vc.model.quantized_input`). Heat-map heads are
   where int8 is known to break (peaks flatten into quantisation steps), so the export measures every precision on
   held-out renders and ``auto`` keeps int8 only where it holds.
 
@@ -30,6 +31,7 @@ from onnxruntime.transformers.float16 import convert_float_to_float16
 
 from vc.deploy.decode import DecodeConfig
 from vc.model.evaluate import RegionEvaluation, evaluate_source
+from vc.model.quantized_input import network_input_overrides, quantize_pixels_directly
 from vc.render.dataset import Sample, read_sample
 
 PRECISIONS = ("fp32", "fp16", "int8")
@@ -69,15 +71,18 @@ def to_fp16(model: bytes) -> bytes:
 
 
 def to_int8(model: bytes, calibration: list[Sample], crop_size: tuple[int, int]) -> bytes:
-    """Static int8 quantization of :data:`QUANTIZED_OPS`, activation ranges calibrated on ``calibration`` renders."""
+    """Static int8 quantization of :data:`QUANTIZED_OPS`, activation ranges calibrated on ``calibration`` renders;
+    the network's input quantized at the pixels' own levels and taken from the pixels directly
+    (:mod:`vc.model.quantized_input`)."""
     with tempfile.TemporaryDirectory(prefix="vc-int8-") as folder:
         source, prepared, quantized = (Path(folder) / name for name in ("fp32.onnx", "pre.onnx", "int8.onnx"))
         source.write_bytes(model)
         quant_pre_process(str(source), str(prepared), skip_symbolic_shape=True)
         quantize_static(str(prepared), str(quantized), _Calibration(calibration, crop_size, _input_name(model)),
                         quant_format=QuantFormat.QDQ, activation_type=QuantType.QUInt8,
-                        weight_type=QuantType.QInt8, per_channel=True, op_types_to_quantize=list(QUANTIZED_OPS))
-        return quantized.read_bytes()
+                        weight_type=QuantType.QInt8, per_channel=True, op_types_to_quantize=list(QUANTIZED_OPS),
+                        extra_options={"TensorQuantOverrides": network_input_overrides(onnx.load(str(prepared)))})
+        return quantize_pixels_directly(onnx.load(str(quantized))).SerializeToString()
 
 
 def convert(model: bytes, precision: str, calibration: list[Sample], crop_size: tuple[int, int]) -> bytes:

@@ -30,7 +30,7 @@ from vc.io import write_image
 from vc.model.codec import CodecConfig
 from vc.model.export import DeployedNetwork, bundle_files, export_onnx
 from vc.model.network import ScenePoseNet
-from vc.model.precision import auto_precision, to_fp16, to_int8
+from vc.model.precision import auto_precision, crop_sized, to_fp16, to_int8
 from vc.model.train import RegionTrainer, TrainConfig, load_checkpoint
 from vc.render.dataset import open_region
 
@@ -217,6 +217,41 @@ def test_int8_and_fp16_models_stay_close_to_fp32(tmp_path):
     spread = reference.max() - reference.min()
     assert np.abs(_heatmaps(fp16, crops) - reference).max() <= 2e-3 * spread
     assert np.abs(_heatmaps(int8, crops) - reference).mean() <= 0.05 * spread
+
+
+def _first_codes(model: bytes, crop: np.ndarray) -> np.ndarray:
+    """The codes the int8 graph's first quantizer hands the first convolution, for one crop."""
+    graph = onnx.load_from_string(model)
+    codes = next(node for node in graph.graph.node if node.op_type == "QuantizeLinear").output[0]
+    graph.graph.output.append(onnx.helper.make_tensor_value_info(codes, onnx.TensorProto.UINT8, None))
+    session = ort.InferenceSession(graph.SerializeToString(), providers=["CPUExecutionProvider"])
+    return session.run([codes], {"crop": crop[None]})[0][0]
+
+
+@pytest.mark.parametrize("crop_size", [INPUT_SIZE, (160, 80)])  # as the network input; resized in the graph
+def test_int8_quantizes_the_pixels_themselves(tmp_path, crop_size):
+    data = open_region(write_dataset(tmp_path / "dataset"), "r0")
+    net = _trained_network()
+    model = export_onnx(net, crop_size, INPUT_SIZE, {})
+    int8 = to_int8(model, data.train[:8], crop_size)
+    first_ops = []
+    for node in onnx.load_from_string(int8).graph.node:
+        if node.op_type == "QuantizeLinear":
+            break
+        if node.op_type != "DequantizeLinear":
+            first_ops.append(node.op_type)
+    # no float normalisation over the input: the pixels (resized where the crop is not the input's size) go in
+    assert first_ops == ["Transpose", "Cast"] + (["Resize"] if crop_size != INPUT_SIZE else [])
+    # every 8-bit level reaches the network as itself (the normalised input's quantizer made odd levels even)
+    levels = np.repeat(np.arange(256, dtype=np.uint8), crop_size[0] * crop_size[1] * 3 // 256 + 1)
+    crop = levels[:crop_size[0] * crop_size[1] * 3].reshape(crop_size[1], crop_size[0], 3)
+    codes = _first_codes(int8, crop)
+    if crop_size == INPUT_SIZE:
+        np.testing.assert_array_equal(codes, crop.transpose(2, 0, 1))
+    # and the network's maps stay those of fp32 (the half-level offset of code 128 moved into the first bias)
+    crops = np.stack([crop_sized(sample(region_camera(), index, seed=7).image, crop_size) for index in range(3)])
+    reference = _heatmaps(model, crops)
+    assert np.abs(_heatmaps(int8, crops) - reference).mean() <= 0.05 * (reference.max() - reference.min())
 
 
 def test_auto_keeps_int8_only_where_it_holds():
