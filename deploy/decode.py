@@ -277,7 +277,6 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     strong_indices = np.flatnonzero(strong)
     owner_among_strong = strong_indices[np.argmin(scaled[strong_indices], axis=0)] if len(strong_indices) else owner
 
-    people = []
     keypoint_maps = heatmaps[KEYPOINT_CHANNELS]
     shared_out = (dict(zip(strong_indices, _exclusive_keypoints(keypoint_maps, centres_cells[strong],
                                                                 heights_cells[strong], config), strict=True))
@@ -285,23 +284,29 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     searched = [index for index in range(len(peaks)) if index not in shared_out]
     own_keypoints = dict(zip(searched, _keypoints(keypoint_maps, centres_cells[searched], heights_cells[searched],
                                                   config), strict=True))
-    for index, (score, centre_cells) in enumerate(peaks):
-        keypoints = shared_out[index] if index in shared_out else own_keypoints[index]
-        pair_handedness = None
-        if image_ordered:
-            row, column = int(round(centre_cells[1])), int(round(centre_cells[0]))
-            pair_handedness = heatmaps[HANDEDNESS_CHANNELS, row, column]
-            # A negative handedness: the pair's image-left member is the person's right one.
-            keypoints = swap_pairs(keypoints, pair_handedness < 0)
-        within_reach = ((np.abs(mask_columns - centre_cells[0]) <= config.reach_sideways * heights_cells[index])
-                        & (np.abs(mask_rows - centre_cells[1]) <= config.reach_vertical * heights_cells[index]))
-        owned = ((owner_among_strong if strong[index] else owner) == index) & within_reach
+    keypoints = np.stack([shared_out[index] if index in shared_out else own_keypoints[index]
+                          for index in range(len(peaks))])  # (N, 17, 3)
+    pair_handedness = None
+    if image_ordered:
+        centre_rows, centre_columns = (np.round(centres_cells[:, ::-1]).astype(int)).T
+        pair_handedness = heatmaps[HANDEDNESS_CHANNELS][:, centre_rows, centre_columns].T  # (N, pairs)
+        # A negative handedness: the pair's image-left member is the person's right one.
+        keypoints = swap_pairs(keypoints, pair_handedness < 0)
+    within_reach = ((np.abs(mask_columns[None] - centres_cells[:, 0, None])
+                     <= config.reach_sideways * heights_cells[:, None])
+                    & (np.abs(mask_rows[None] - centres_cells[:, 1, None])
+                       <= config.reach_vertical * heights_cells[:, None]))  # (N, foreground cells)
+    owned = (np.where(strong[:, None], owner_among_strong[None], owner[None])
+             == np.arange(len(peaks))[:, None]) & within_reach
+    centres = cells_to_input(centres_cells, stride)
+    boxes = _boxes(centres, heights_px, keypoints, owned, mask_columns, config)
+    people = []
+    for index, (score, _) in enumerate(peaks):
         mask_cells = np.zeros((height, width), bool)
-        mask_cells[mask_rows[owned], mask_columns[owned]] = True
-        centre = cells_to_input(centre_cells, stride)
-        people.append(DecodedPerson(score=score, centre=centre, keypoints=keypoints,
-                                    box=_box(centre, heights_px[index], keypoints, mask_cells, config),
-                                    mask_cells=mask_cells, pair_handedness=pair_handedness,
+        mask_cells[mask_rows[owned[index]], mask_columns[owned[index]]] = True
+        people.append(DecodedPerson(score=score, centre=centres[index], keypoints=keypoints[index], box=boxes[index],
+                                    mask_cells=mask_cells,
+                                    pair_handedness=None if pair_handedness is None else pair_handedness[index],
                                     weak=not strong[index]))
     return people
 
@@ -546,40 +551,47 @@ HEAD_KEYPOINTS = np.array([COCO_KEYPOINTS.index(name) for name in
 ANKLE_KEYPOINTS = np.array([COCO_KEYPOINTS.index(name) for name in ("left_ankle", "right_ankle")])
 
 
-def _vertical_extent(centre: np.ndarray, height_px: float, keypoints: np.ndarray,
-                     config: DecodeConfig) -> tuple[float, float]:
-    """Top and bottom of the box (input px). From the highest confident head keypoint and the lowest confident
-    ankle when ``config.height_from_keypoints``: on the upright prior they lie ``offset`` person heights from the
-    centre, so their distance is the height times the difference of their offsets, and the head's top and the
-    soles lie half a height from the centre. Otherwise, and where that height is more than
-    ``keypoint_height_range`` times off the expected one (a neighbour's ankle), the expected height centred on
-    the centre."""
+def _boxes(centres: np.ndarray, heights_px: np.ndarray, keypoints: np.ndarray, owned: np.ndarray,
+           mask_columns: np.ndarray, config: DecodeConfig) -> np.ndarray:
+    """(N, 4) boxes of the N people at ``centres`` (input px) with expected ``heights_px``, ``keypoints`` (N, 17, 3)
+    and ``owned`` (N, M) of the M foreground cells in ``mask_columns`` (see module docstring, step 4; all people at
+    once). Top and bottom from the highest confident head keypoint and the lowest confident ankle where
+    ``config.height_from_keypoints``: on the upright prior they lie ``offset`` person heights from the centre, so
+    their distance is the height times the difference of their offsets, and the head's top and the soles lie half a
+    height from the centre; otherwise, and where that height is more than ``keypoint_height_range`` times off the
+    expected one (a neighbour's ankle), the expected height centred on the centre. The width spans the confident
+    keypoints and the mask cells within reach sideways, plus a margin, and is at least ``min_width``."""
+    count = len(centres)
+    x, y = keypoints[..., 0], keypoints[..., 1]
+    confident = keypoints[..., 2] >= config.keypoint_threshold  # (N, 17)
+    spanning = confident & (np.abs(x - centres[:, 0, None]) <= config.reach_sideways * heights_px[:, None])
+    lowest = np.where(spanning, x, np.inf).min(axis=1)
+    highest = np.where(spanning, x, -np.inf).max(axis=1)
+    has_mask = owned.any(axis=1)
+    if has_mask.any():
+        first_column = np.where(owned, mask_columns[None], np.iinfo(np.int64).max).min(axis=1)
+        last_column = np.where(owned, mask_columns[None], -1).max(axis=1)
+        lowest = np.where(has_mask, np.minimum(lowest, cells_to_input(first_column - 0.5, config.stride)), lowest)
+        highest = np.where(has_mask, np.maximum(highest, cells_to_input(last_column + 0.5, config.stride)), highest)
+    spanned = np.isfinite(lowest)  # without keypoints or mask the box is the narrowest one around the centre
+    lowest, highest = np.where(spanned, lowest, centres[:, 0]), np.where(spanned, highest, centres[:, 0])
+    margin, half_min = config.side_margin * heights_px, config.min_width * heights_px / 2
+    left = np.maximum(centres[:, 0] - lowest + margin, half_min)
+    right = np.maximum(highest - centres[:, 0] + margin, half_min)
+
+    top, bottom = centres[:, 1] - heights_px / 2, centres[:, 1] + heights_px / 2
     if config.height_from_keypoints:
-        confident = keypoints[:, 2] >= config.keypoint_threshold
-        heads, ankles = HEAD_KEYPOINTS[confident[HEAD_KEYPOINTS]], ANKLE_KEYPOINTS[confident[ANKLE_KEYPOINTS]]
-        if len(heads) and len(ankles):
-            head = heads[np.argmin(keypoints[heads, 1])]
-            ankle = ankles[np.argmax(keypoints[ankles, 1])]
-            height = (keypoints[ankle, 1] - keypoints[head, 1]) / (LOWER_ANKLE_OFFSET - UPRIGHT_OFFSETS[head])
-            if 1.0 / config.keypoint_height_range <= height / height_px <= config.keypoint_height_range:
-                top = keypoints[head, 1] - (0.5 + UPRIGHT_OFFSETS[head]) * height
-                return top, top + height
-    return centre[1] - height_px / 2, centre[1] + height_px / 2
-
-
-def _box(centre: np.ndarray, height_px: float, keypoints: np.ndarray, mask_cells: np.ndarray,
-         config: DecodeConfig) -> np.ndarray:
-    """The box's top and bottom (:func:`_vertical_extent`); its width from confident keypoints and mask within
-    reach of the centre (see module docstring)."""
-    confident = keypoints[:, 2] >= config.keypoint_threshold
-    near = np.abs(keypoints[:, 0] - centre[0]) <= config.reach_sideways * height_px
-    xs = list(keypoints[confident & near, 0])
-    if mask_cells.any():
-        columns = np.nonzero(mask_cells.any(axis=0))[0]
-        xs += list(cells_to_input(np.array([columns[0] - 0.5, columns[-1] + 0.5]), config.stride))
-    margin = config.side_margin * height_px
-    half_min = config.min_width * height_px / 2
-    left = max(centre[0] - min(xs, default=centre[0]) + margin, half_min)
-    right = max(max(xs, default=centre[0]) - centre[0] + margin, half_min)
-    top, bottom = _vertical_extent(centre, height_px, keypoints, config)
-    return np.array([centre[0] - left, top, centre[0] + right, bottom])
+        heads = confident[:, HEAD_KEYPOINTS]
+        ankles = confident[:, ANKLE_KEYPOINTS]
+        both = heads.any(axis=1) & ankles.any(axis=1)
+        head = HEAD_KEYPOINTS[np.argmin(np.where(heads, y[:, HEAD_KEYPOINTS], np.inf), axis=1)]
+        ankle = ANKLE_KEYPOINTS[np.argmax(np.where(ankles, y[:, ANKLE_KEYPOINTS], -np.inf), axis=1)]
+        people = np.arange(count)
+        head_y, ankle_y = y[people, head], y[people, ankle]
+        height = (ankle_y - head_y) / (LOWER_ANKLE_OFFSET - UPRIGHT_OFFSETS[head])
+        ratio = height / heights_px
+        from_keypoints = both & (1.0 / config.keypoint_height_range <= ratio) & (ratio <= config.keypoint_height_range)
+        keypoint_top = head_y - (0.5 + UPRIGHT_OFFSETS[head]) * height
+        top = np.where(from_keypoints, keypoint_top, top)
+        bottom = np.where(from_keypoints, keypoint_top + height, bottom)
+    return np.stack([centres[:, 0] - left, top, centres[:, 0] + right, bottom], axis=1)

@@ -49,12 +49,14 @@ LAYOUTS = (ANATOMICAL_CHANNELS, HEATMAP_CHANNELS, OFFSET_CHANNELS)
 
 
 def swap_pairs(keypoints: np.ndarray, swapped) -> np.ndarray:
-    """A copy of keypoints (17, k) with the two members of each pair (:data:`PAIRS`) exchanged where ``swapped``
-    (one flag per pair) is true: image order <-> anatomical order, in either direction."""
+    """A copy of keypoints (..., 17, k) with the two members of each pair (:data:`PAIRS`) exchanged where
+    ``swapped`` (..., one flag per pair) is true: image order <-> anatomical order, in either direction. Several
+    people at once: keypoints (N, 17, k) and flags (N, pairs)."""
     swapped = np.asarray(swapped, bool)
-    order = np.arange(len(COCO_KEYPOINTS))
-    order[_LEFT_MEMBERS[swapped]], order[_RIGHT_MEMBERS[swapped]] = _RIGHT_MEMBERS[swapped], _LEFT_MEMBERS[swapped]
-    return np.asarray(keypoints)[order]  # fancy indexing copies
+    order = np.array(np.broadcast_to(np.arange(len(COCO_KEYPOINTS)), (*swapped.shape[:-1], len(COCO_KEYPOINTS))))
+    order[..., _LEFT_MEMBERS] = np.where(swapped, _RIGHT_MEMBERS, _LEFT_MEMBERS)
+    order[..., _RIGHT_MEMBERS] = np.where(swapped, _LEFT_MEMBERS, _RIGHT_MEMBERS)
+    return np.take_along_axis(np.asarray(keypoints), order[..., None], axis=-2)  # a copy
 
 
 def channel_names(channels: int = HEATMAP_CHANNELS) -> tuple[str, ...]:
