@@ -417,3 +417,12 @@ def test_pairs_are_exchanged_where_flagged_and_nowhere_else() -> None:
 def test_the_vote_step_s_median_is_numpy_s(count) -> None:
     values = np.random.default_rng(count).uniform(20.0, 90.0, count)
     assert _median(values) == np.median(values)
+
+
+def test_several_peoples_pairs_are_exchanged_each_by_their_own_flags() -> None:
+    rng = np.random.default_rng(3)
+    keypoints = rng.normal(size=(4, 17, 3))
+    flags = rng.random((4, 8)) < 0.5
+    together = swap_pairs(keypoints, flags)
+    for person in range(4):
+        assert np.array_equal(together[person], swap_pairs(keypoints[person], flags[person]))
