@@ -1,4 +1,5 @@
-"""What synthetic people look like: one diffuse albedo per body part (skin, hair, clothes, shoes).
+"""What synthetic people look like: one diffuse albedo and one thickness per body part (skin, hair, clothes,
+shoes).
 
 A person 100-200 px tall shows its clothing as a few flat colours, so per-part albedos (linear RGB, what
 Mitsuba's ``diffuse`` BSDF takes) carry what matters to a detector: skin tones across ethnicities, hair or a
@@ -10,6 +11,12 @@ clothing of a mild day), ``winter`` (coats and jackets, mostly black, grey and n
 third with a hat or hood) or ``summer`` (short sleeves and bare legs for most, lighter colours). The colour
 frequencies are this project's assumptions from street observation, not a published survey: what matters to a
 detector is that the renders' people are as dark, as uniform and as covered as the scene's people are.
+
+Thickness is how far a part's surface lies outside the skin (:mod:`vc.render.dressing` moves it out): hair 0.5-2.5
+cm (none when bald), a hat or hood 2-5 cm, a shirt to a jacket 0.5-2 cm (a winter coat or parka 1.5-4.5 cm,
+summer clothes 2-8 mm), trousers 3-12 mm, shoes 1.2-3 cm (the sole a person stands on). These are this project's
+assumptions from garment and footwear dimensions (a street shoe's heel is 2-3 cm, a down parka's loft several
+centimetres), not a survey; they matter because a real person's outline is their clothes, not their skin.
 """
 
 from __future__ import annotations
@@ -70,22 +77,30 @@ _SHOES = _palette({
 
 DRESS = 0.25  # of bare shins on a woman: a dress, one colour from shoulders to knees
 
+# Ranges (m) of each covering's thickness over the skin (module docstring).
+HAIR_THICKNESS_M = (0.005, 0.025)
+HEADWEAR_THICKNESS_M = (0.02, 0.05)
+LOWER_THICKNESS_M = (0.003, 0.012)
+SHOE_THICKNESS_M = (0.012, 0.03)
+
 
 @dataclass(frozen=True)
 class Wardrobe:
-    """What the people of a scene wear: garment palettes, how often arms and shins are bare, and how often
-    (``headwear``) a hat or hood covers the hair, its colour from ``headwear_colours``."""
+    """What the people of a scene wear: garment palettes, how thick the upper garment is, how often arms and
+    shins are bare, and how often (``headwear``) a hat or hood covers the hair, its colour from
+    ``headwear_colours``."""
 
     upper: tuple[np.ndarray, np.ndarray]
     lower: tuple[np.ndarray, np.ndarray]
     shoes: tuple[np.ndarray, np.ndarray]
     short_sleeves: float  # probability of bare forearms
     bare_shins: float  # shorts, or a skirt or dress above the knee
+    upper_thickness_m: tuple[float, float]  # range of the torso's and sleeves' garment thickness
     headwear: float = 0.0
     headwear_colours: tuple[np.ndarray, np.ndarray] | None = None
 
 
-_MIXED = Wardrobe(_UPPER, _LOWER, _SHOES, short_sleeves=0.35, bare_shins=0.15)
+_MIXED = Wardrobe(_UPPER, _LOWER, _SHOES, short_sleeves=0.35, bare_shins=0.15, upper_thickness_m=(0.005, 0.02))
 # Winter outerwear: coats, parkas and jackets over trousers; boots and dark shoes.
 _WINTER = Wardrobe(
     upper=_palette({
@@ -95,32 +110,33 @@ _WINTER = Wardrobe(
         "#1c1c1c": 30, "#333335": 14, "#2c3e5c": 14, "#3b5998": 8, "#1f2a44": 8, "#5c4033": 4, "#a89a7a": 4,
         "#6a6a6c": 6}),
     shoes=_palette({"#151515": 50, "#3b2a20": 20, "#e8e8e6": 10, "#5a5a5a": 10, "#8a6440": 10}),
-    short_sleeves=0.0, bare_shins=0.0, headwear=0.35,
+    short_sleeves=0.0, bare_shins=0.0, upper_thickness_m=(0.015, 0.045), headwear=0.35,
     headwear_colours=_palette({"#151515": 50, "#333335": 20, "#1f2a44": 15, "#6f6f6f": 10, "#9b1b1b": 5}))
 # Summer: short sleeves and bare legs for most, more white and light colours than the mild-day mix.
 _SUMMER = Wardrobe(
     upper=_palette({
         "#e6e4df": 22, "#b5b5b3": 8, "#2a2a2a": 12, "#1f2a44": 8, "#9ec3e6": 8, "#5a7da6": 6, "#e7a1b0": 5,
         "#c2b280": 6, "#b22222": 5, "#e1ad01": 4, "#2e8b57": 4, "#e07b24": 3, "#7f7f80": 6, "#5b3a78": 3}),
-    lower=_LOWER, shoes=_SHOES, short_sleeves=0.75, bare_shins=0.45)
+    lower=_LOWER, shoes=_SHOES, short_sleeves=0.75, bare_shins=0.45, upper_thickness_m=(0.002, 0.008))
 #: ``priors.clothing`` -> what the scene's people wear.
 WARDROBES: dict[str, Wardrobe] = {"mixed": _MIXED, "winter": _WINTER, "summer": _SUMMER}
 
 
 @dataclass(frozen=True)
 class Appearance:
-    """Linear-RGB diffuse albedo of every body part of one person."""
+    """Linear-RGB diffuse albedo and thickness over the skin (m) of every body part of one person."""
 
     part_albedo: dict[str, tuple[float, float, float]]
+    part_thickness_m: dict[str, float]
 
     def to_dict(self) -> dict:
-        return {"part_albedo": {part: [round(c, 4) for c in rgb] for part, rgb in self.part_albedo.items()}}
+        return {"part_albedo": {part: [round(c, 4) for c in rgb] for part, rgb in self.part_albedo.items()},
+                "part_thickness_m": {part: round(value, 4) for part, value in self.part_thickness_m.items()}}
 
 
 def sample_appearance(rng: np.random.Generator, phenotype: Phenotype, wardrobe: Wardrobe = _MIXED) -> Appearance:
     """Skin from the ethnicity mixture, hair from ethnicity and age (greying, male baldness), clothes from the
-    ``wardrobe``. The mixed wardrobe draws no random numbers for headwear, so its people are what they were before
-    wardrobes existed."""
+    ``wardrobe``, and how thick each covering is (drawn last)."""
     ethnicity = np.asarray(phenotype.ethnicity, dtype=np.float64)
     skin = _skin_albedo(rng, ethnicity)
 
@@ -137,18 +153,31 @@ def sample_appearance(rng: np.random.Generator, phenotype: Phenotype, wardrobe: 
                            for palette in (wardrobe.upper, wardrobe.lower, wardrobe.shoes))
     short_sleeves = rng.random() < wardrobe.short_sleeves
     bare_shins = rng.random() < wardrobe.bare_shins
-    if wardrobe.headwear and rng.random() < wardrobe.headwear:
+    headwear = bool(wardrobe.headwear) and rng.random() < wardrobe.headwear
+    if headwear:
         hair, bald = _jitter(rng, _pick(rng, wardrobe.headwear_colours), 0.15), False
     if bare_shins and rng.random() < DRESS * (1.0 - male):
         lower = upper
     albedo = {"skin": skin, "hair": skin if bald else hair, "upper": upper, "lower": lower, "shoes": shoes,
               "forearms": skin if short_sleeves else upper, "shins": skin if bare_shins else lower}
-    return Appearance({part: tuple(float(c) for c in albedo[part]) for part in BODY_PARTS})
+    hair_m, upper_m, lower_m, shoes_m = (float(rng.uniform(*span)) for span in (
+        HEADWEAR_THICKNESS_M if headwear else HAIR_THICKNESS_M, wardrobe.upper_thickness_m, LOWER_THICKNESS_M,
+        SHOE_THICKNESS_M))
+    thickness = {"skin": 0.0, "hair": 0.0 if bald else hair_m, "upper": upper_m, "lower": lower_m, "shoes": shoes_m,
+                 "forearms": 0.0 if short_sleeves else upper_m, "shins": 0.0 if bare_shins else lower_m}
+    return Appearance({part: tuple(float(c) for c in albedo[part]) for part in BODY_PARTS},
+                      {part: thickness[part] for part in BODY_PARTS})
 
 
 def vertex_albedo(model_parts: np.ndarray, appearance: Appearance) -> np.ndarray:
     """(V, 3) float32 linear albedo of each vertex, from its :data:`BODY_PARTS` label."""
     table = np.array([appearance.part_albedo[part] for part in BODY_PARTS], dtype=np.float32)
+    return table[np.asarray(model_parts)]
+
+
+def vertex_thickness(model_parts: np.ndarray, appearance: Appearance) -> np.ndarray:
+    """(V,) float64 thickness (m) over the skin of each vertex, from its :data:`BODY_PARTS` label."""
+    table = np.array([appearance.part_thickness_m[part] for part in BODY_PARTS], dtype=np.float64)
     return table[np.asarray(model_parts)]
 
 

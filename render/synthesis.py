@@ -22,8 +22,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from vc.io import read_image
-from vc.render.appearance import WARDROBES, sample_appearance, vertex_albedo
+from vc.render.appearance import WARDROBES, sample_appearance, vertex_albedo, vertex_thickness
 from vc.render.bodies import BodyModel, sample_gait, sample_phenotype
+from vc.render.dressing import dress
 from vc.render.effects import MovingPerson, SampleLayers, build_effects
 from vc.render.labels import PersonTruth, instance_map, person_annotation
 from vc.render.people_renderer import PeopleRenderer, PersonGeometry
@@ -98,8 +99,10 @@ class RegionSynthesizer:
         for k, placement in enumerate(placements):
             rotation = yaw_rotation(placement.yaw_deg)
             offset = np.array([*placement.position, 0.0])
-            vertices = (posed.vertices[k].astype(np.float64) @ rotation.T + offset).astype(np.float32)
-            keypoints = posed.keypoints[k].astype(np.float64) @ rotation.T + offset
+            body, joints = dress(posed.vertices[k], posed.keypoints[k], self.bodies.faces,
+                                 vertex_thickness(self.bodies.vertex_parts, appearances[k]))
+            vertices = (body.astype(np.float64) @ rotation.T + offset).astype(np.float32)
+            keypoints = joints.astype(np.float64) @ rotation.T + offset
             people.append(PersonGeometry(vertices, vertex_albedo(self.bodies.vertex_parts, appearances[k])))
             moving.append(MovingPerson(centre=offset + np.array([0.0, 0.0, float(posed.stature_m[k]) / 2]),
                                        velocity=gaits[k].speed_mps * rotation[:, 0]))

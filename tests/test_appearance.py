@@ -106,3 +106,19 @@ def test_winter_people_are_darker_and_covered_and_summer_people_lighter_and_bare
     covered = np.mean([a.part_albedo["hair"] != a.part_albedo["skin"] for a in winter])
     assert covered > np.mean([a.part_albedo["hair"] != a.part_albedo["skin"] for a in mixed])
     assert np.median(luminances(winter, "hair")) < 0.06
+
+
+def test_thickness_follows_what_covers_each_part() -> None:
+    sample = appearances(2000, seed=6, clothing="winter", gender=1.0, age_years=70.0)
+    for a in sample:
+        t = a.part_thickness_m
+        assert t["skin"] == 0.0 and 0.012 <= t["shoes"] <= 0.03
+        assert (t["hair"] == 0.0) == (a.part_albedo["hair"] == a.part_albedo["skin"])  # bald heads are bare
+        assert t["forearms"] == t["upper"] and t["shins"] == t["lower"]  # winter: sleeves and trousers
+        assert 0.015 <= t["upper"] <= 0.045
+    headwear = np.array([a.part_thickness_m["hair"] > 0.025 for a in sample])
+    assert 0.2 < headwear.mean() < 0.4  # only a hat or hood is thicker than hair
+    for a in appearances(500, seed=7, clothing="summer"):
+        t = a.part_thickness_m
+        assert t["forearms"] == (0.0 if a.part_albedo["forearms"] == a.part_albedo["skin"] else t["upper"])
+        assert t["shins"] == (0.0 if a.part_albedo["shins"] == a.part_albedo["skin"] else t["lower"])
