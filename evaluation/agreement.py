@@ -16,6 +16,9 @@ it:
    wrong call moves all eight pairs. So each person is also compared with their pairs exchanged: the people
    for whom more keypoints agree exchanged, and the agreement were each person's left and right the reference's
    (``overall_if_left_right_matched``), say how much of the disagreement is left against right alone.
+5. Where each keypoint sits against the reference's, in that better order: the median of (ours - theirs) / head
+   size, x and y (``median_offset_head_sizes``). Random errors scatter around zero; a convention or a bias
+   shows as a shift — a face read higher than the reference reads it, ankles lower.
 
 The reference has errors of its own, and COCO's annotators (whose convention a COCO-trained model learns) mark
 hips and shoulders away from the anatomical joint centres a rendered skeleton has: agreement is not accuracy. A
@@ -50,6 +53,7 @@ class PoseAgreement:
     people: int
     left_right_swapped: int = 0  # people for whom more keypoints agree with their pairs exchanged
     agreeing_if_left_right_matched: np.ndarray | None = None  # (17,) int: each person in the better order
+    median_offset: np.ndarray | None = None  # (17, 2) head sizes, ours - theirs, in the better order; NaN: none
 
     @property
     def overall(self) -> float | None:
@@ -74,7 +78,10 @@ class PoseAgreement:
                 "per_keypoint": {name: None if value is None else round(value, 4)
                                  for name, value in self.per_keypoint().items()},
                 "people_left_right_swapped": self.left_right_swapped,
-                "overall_if_left_right_matched": None if matched is None else round(matched, 4)}
+                "overall_if_left_right_matched": None if matched is None else round(matched, 4),
+                **({} if self.median_offset is None else {"median_offset_head_sizes": {
+                    name: None if np.isnan(offset).any() else [round(float(c), 3) for c in offset]
+                    for name, offset in zip(COCO_KEYPOINTS, self.median_offset, strict=True)}})}
 
 
 def matched_people(images: Sequence[ImageResult]) -> list[dict[int, int]]:
@@ -94,6 +101,7 @@ def pose_agreement(candidate: Sequence[ImageResult], reference: Sequence[ImageRe
     compared = np.zeros(len(COCO_KEYPOINTS), int)
     agreeing = np.zeros(len(COCO_KEYPOINTS), int)
     agreeing_matched = np.zeros(len(COCO_KEYPOINTS), int)
+    offsets: list[list[np.ndarray]] = [[] for _ in COCO_KEYPOINTS]
     people = swapped = 0
     for ours, theirs, our_matches, their_matches in zip(candidate, reference, matched_people(candidate),
                                                         matched_people(reference), strict=True):
@@ -103,14 +111,19 @@ def pose_agreement(candidate: Sequence[ImageResult], reference: Sequence[ImageRe
             our_keypoints = np.asarray(ours.keypoints[our_matches[truth]], np.float64)
             their_keypoints = np.asarray(theirs.keypoints[their_matches[truth]], np.float64)
             confident = their_keypoints[:, 2] >= REFERENCE_CONFIDENCE
+            exchanged = swap_pairs(our_keypoints, [True] * len(PAIRS))
             agree, agree_exchanged = (
                 confident & (np.linalg.norm(keypoints[:, :2] - their_keypoints[:, :2], axis=1)
                              <= AGREEMENT_HEAD_SIZES * head)
-                for keypoints in (our_keypoints, swap_pairs(our_keypoints, [True] * len(PAIRS))))
+                for keypoints in (our_keypoints, exchanged))
             compared += confident
             agreeing += agree
             exchanged_better = agree_exchanged.sum() > agree.sum()
             agreeing_matched += agree_exchanged if exchanged_better else agree
+            better = exchanged if exchanged_better else our_keypoints
+            for keypoint in np.flatnonzero(confident):
+                offsets[keypoint].append((better[keypoint, :2] - their_keypoints[keypoint, :2]) / head)
             swapped += int(exchanged_better)
             people += 1
-    return PoseAgreement(compared, agreeing, people, swapped, agreeing_matched)
+    median_offset = np.array([np.median(found, axis=0) if found else [np.nan, np.nan] for found in offsets])
+    return PoseAgreement(compared, agreeing, people, swapped, agreeing_matched, median_offset)

@@ -157,18 +157,27 @@ def plot_miss_analysis(analysis: MissAnalysis, destination: Path, title: str) ->
 
 def plot_pose_agreement(agreements: Mapping[str, PoseAgreement], destination: Path, title: str) -> None:
     """Per COCO keypoint, the share of a reference pose model's confident keypoints each detector agrees with
-    (:mod:`vc.evaluation.agreement`), one bar per detector, its overall share in the legend."""
-    figure, axes = plt.subplots(figsize=(10, 5))
+    (:mod:`vc.evaluation.agreement`), one bar per detector, its overall share in the legend; below, where each
+    detector puts the keypoint against the reference (median offset in head sizes, across and down)."""
+    figure, (axes, offsets) = plt.subplots(2, 1, figsize=(10, 8), sharex=True, height_ratios=(3, 2))
     width = 0.8 / max(len(agreements), 1)
     positions = np.arange(len(COCO_KEYPOINTS))
     for index, (name, agreement) in enumerate(agreements.items()):
         values = [np.nan if value is None else value for value in agreement.per_keypoint().values()]
         overall = "n/a" if agreement.overall is None else f"{agreement.overall:.2f}"
-        axes.bar(positions + (index - (len(agreements) - 1) / 2) * width, values, width,
-                 label=f"{name}: {overall} overall, {agreement.people} people")
-    axes.set_xticks(positions, [name.replace("_", " ") for name in COCO_KEYPOINTS], rotation=45, ha="right")
+        shift = (index - (len(agreements) - 1) / 2) * width
+        bars = axes.bar(positions + shift, values, width, label=f"{name}: {overall} overall, {agreement.people} people")
+        if agreement.median_offset is not None:
+            colour = bars.patches[0].get_facecolor() if bars.patches else None
+            offsets.plot(positions + shift, agreement.median_offset[:, 1], "o", color=colour, label=f"{name}: down")
+            offsets.plot(positions + shift, agreement.median_offset[:, 0], "x", color=colour, label=f"{name}: across")
     axes.set(ylim=(0, 1.05), ylabel="agreement", title=title)
     axes.grid(alpha=0.3, axis="y")
     axes.legend(fontsize=8, loc="lower left")
+    offsets.axhline(0.0, color="black", linewidth=0.8)
+    offsets.set(ylabel="median offset from the reference\n(head sizes; + right, + down)")
+    offsets.set_xticks(positions, [name.replace("_", " ") for name in COCO_KEYPOINTS], rotation=45, ha="right")
+    offsets.grid(alpha=0.3)
+    offsets.legend(fontsize=7, ncol=2, loc="best")
     figure.tight_layout()
     _save(figure, destination)

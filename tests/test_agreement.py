@@ -58,3 +58,20 @@ def test_a_person_facing_the_other_way_counts_as_left_and_right_exchanged():
     assert agreement.left_right_swapped == 1 and agreement.overall_if_left_right_matched == 1.0
     assert pose_agreement(reference, reference).left_right_swapped == 0
     assert pose_agreement(reference, reference).to_dict()["overall_if_left_right_matched"] == 1.0
+
+
+def test_a_shift_shared_by_a_keypoint_shows_as_its_median_offset_in_head_sizes():
+    reference_keypoints = np.stack([_keypoints(10.0), _keypoints(110.0)])  # head size 10 px (TRUTH is 80 px tall)
+    for left, right in PAIRS:  # pairs side by side, so that reading them exchanged agrees less
+        reference_keypoints[:, left, 0] += 6.0
+        reference_keypoints[:, right, 0] -= 6.0
+    ours = reference_keypoints.copy()
+    ours[:, 0, 1] -= 3.0  # the nose read 0.3 head sizes higher on both people
+    ours[0, 15, 0] += 2.0  # one left ankle 0.2 to the right, the other where the reference has it: median 0.1
+    for left, right in PAIRS:  # the second person read facing the other way: compared in the better order
+        ours[1, [left, right]] = ours[1, [right, left]]
+    agreement = pose_agreement([ImageResult(TRUTH, TRUTH.copy(), np.array([0.9, 0.8]), keypoints=ours)],
+                               [ImageResult(TRUTH, TRUTH.copy(), np.array([0.9, 0.8]), keypoints=reference_keypoints)])
+    offsets = agreement.to_dict()["median_offset_head_sizes"]
+    assert offsets["nose"] == [0.0, -0.3] and offsets["left_ankle"] == [0.1, 0.0]
+    assert offsets["right_knee"] == [0.0, 0.0]
