@@ -75,7 +75,8 @@ def measure(synthesizer: RegionSynthesizer, samples: int, warmup: int, scratch: 
     start = time.perf_counter()
     dataset.write_shard(scratch, shard, timed_samples(), {})
     elapsed = time.perf_counter() - start
-    steps["writing (not overlapped)"] = elapsed - sum(steps[s] for s in ("pose", "render", "composite", "labels"))
+    timed = ("pose", "dress", "render", "composite", "labels")
+    steps["writing (not overlapped)"] = elapsed - sum(steps[step] for step in timed)
     heights = []
     for index in range(min(samples, 10)):
         heights += [a["bbox"][3] for a in synthesizer.sample(index).annotations]
@@ -180,7 +181,7 @@ def _plot(results: list[dict], path: Path) -> None:
     left.set(xscale="log", xlabel="samples per pixel", ylabel="labelled samples / s", title="Render throughput")
     left.legend()
     reference = [r for r in results if r["spp"] == REFERENCE_SPP] or results
-    steps = ["pose", "render.update_scene", "render.windows", "render.trace", "render.layers",
+    steps = ["pose", "dress", "render.update_scene", "render.windows", "render.trace", "render.layers",
              "render.distortion_warp", "composite", "labels", "writing (not overlapped)"]
     bottom = np.zeros(len(reference))
     for step in steps:

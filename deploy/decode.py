@@ -49,21 +49,24 @@ from vc.deploy.heatmaps import (
 from vc.keypoints import COCO_KEYPOINTS
 
 #: Where each COCO keypoint sits on an upright person, below (+) or above (-) the centre, in person heights
-#: (surveillance views of pedestrians: heads up, feet down; the prior's width absorbs gait and lean). Measured on
-#: the renders: the median over ~3 300 walking people of each of PETS09's (raised) and TUD-Stadtmitte's (eye
-#: level) datasets of (keypoint - full-body box centre) / box height; the two cameras agree within 0.007, and the
-#: centre peak lies within 0.01 heights of the box centre (benchmarks/results/box_extent.md).
-UPRIGHT_OFFSETS = np.array([-0.415, -0.435, -0.435, -0.425, -0.425, -0.305, -0.305, -0.155, -0.155, -0.02, -0.02,
-                            -0.015, -0.015, 0.2, 0.2, 0.415, 0.415])
+#: (surveillance views of pedestrians: heads up, feet down; the prior's width absorbs gait and lean): the median
+#: over 2 000 sampled walkers and standers, dressed in the default wardrobe (hair, clothes and soles as volume,
+#: :mod:`vc.render.dressing`), of (keypoint - middle of the body's vertical extent) / that extent, at the seen
+#: level. Bare bodies measured this way matched the renders' own boxes within 0.002 (eyes -0.436, lower ankle
+#: 0.439; benchmarks/results/box_extent.md); dressed, the head's keypoints lie 0.006 heights lower under hair and
+#: the ankles 0.01 higher over soles (benchmarks/results/dressed_bodies_pets09.md). ``tests/test_bodies.py``
+#: checks them against dressed anny bodies.
+UPRIGHT_OFFSETS = np.array([-0.41, -0.43, -0.43, -0.42, -0.42, -0.305, -0.305, -0.155, -0.155, -0.02, -0.02,
+                            -0.02, -0.02, 0.195, 0.195, 0.41, 0.41])
 #: The mask area of an upright person, in squared person heights: about half of a box 0.37 heights wide (COCO
 #: pedestrians' masks fill about half their boxes). It turns a cluster of votes into a share of one person.
 PERSON_AREA = 0.18
 #: A centre peak that few pixels vote for, this close (person heights) to where votes put a person, is the blur of
 #: the people around it (step 1b): two people side by side blur into a peak about a quarter height from each.
 MERGED_PEAK_REACH = 0.5
-#: The lower of a person's two ankles, measured likewise (median 0.437 and 0.439): the planted foot's, which the
-#: box's bottom follows (the other foot swings up to 0.1 heights higher).
-LOWER_ANKLE_OFFSET = 0.44
+#: The lower of a person's two ankles, measured likewise (0.439 bare): the planted foot's, which the box's bottom
+#: follows (the other foot swings up to 0.1 heights higher).
+LOWER_ANKLE_OFFSET = 0.427
 
 
 @dataclass(frozen=True)

@@ -130,7 +130,7 @@ def summarise(request: RenderRequest, counts: dict, rendered: dict, skipped: int
     sample_count = sum(entry["samples"] for entry in rendered.values())
     stage_seconds = {stage: round(value, 3) for stage, value in timings.items()}
     if sample_count and "shard_total" in timings:
-        per_sample = {"pose", "render", "composite", "labels"}
+        per_sample = {"pose", "dress", "render", "composite", "labels"}
         stage_seconds["write_and_other"] = round(timings["shard_total"] - sum(
             timings.get(stage, 0.0) for stage in per_sample), 3)
     summary = {

@@ -95,12 +95,15 @@ class RegionSynthesizer:
         posed = self.bodies.pose(phenotypes, gaits) if placements else None
         timings["pose"] = time.perf_counter() - start
 
+        mark = time.perf_counter()
+        dressed = [dress(posed.vertices[k], posed.keypoints[k], self.bodies.faces,
+                         vertex_thickness(self.bodies.vertex_parts, appearances[k])) for k in range(len(placements))]
+        timings["dress"] = time.perf_counter() - mark
+
         people, truths, moving = [], [], []
-        for k, placement in enumerate(placements):
+        for k, (placement, (body, joints)) in enumerate(zip(placements, dressed, strict=True)):
             rotation = yaw_rotation(placement.yaw_deg)
             offset = np.array([*placement.position, 0.0])
-            body, joints = dress(posed.vertices[k], posed.keypoints[k], self.bodies.faces,
-                                 vertex_thickness(self.bodies.vertex_parts, appearances[k]))
             vertices = (body.astype(np.float64) @ rotation.T + offset).astype(np.float32)
             keypoints = joints.astype(np.float64) @ rotation.T + offset
             people.append(PersonGeometry(vertices, vertex_albedo(self.bodies.vertex_parts, appearances[k])))

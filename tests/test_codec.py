@@ -12,6 +12,8 @@ import numpy as np
 import pytest
 
 from vc.deploy.decode import (
+    LOWER_ANKLE_OFFSET,
+    UPRIGHT_OFFSETS,
     DecodeConfig,
     _keypoints,
     _median,
@@ -41,12 +43,12 @@ from vc.model.train import centre_map_settings
 STRIDE = 4
 WIDTH, HEIGHT = 256, 192
 #: A standing person facing the camera (its left side on the image's right): COCO keypoints as fractions of its
-#: height, relative to the centre (x right, y down); both feet planted, so both ankles where the lower one is.
-BODY = np.array([
-    [0.0, -0.415], [0.02, -0.435], [-0.02, -0.435], [0.05, -0.425], [-0.05, -0.425],
-    [0.11, -0.305], [-0.11, -0.305], [0.14, -0.155], [-0.14, -0.155], [0.15, -0.02], [-0.15, -0.02],
-    [0.07, -0.015], [-0.07, -0.015], [0.08, 0.2], [-0.08, 0.2], [0.08, 0.44], [-0.08, 0.44],
-])
+#: height, relative to the centre (x right, y down), at the decoder's upright prior; both feet planted, so both
+#: ankles where the lower one is.
+BODY = np.c_[
+    [0.0, 0.02, -0.02, 0.05, -0.05, 0.11, -0.11, 0.14, -0.14, 0.15, -0.15, 0.07, -0.07, 0.08, -0.08, 0.08, -0.08],
+    np.r_[UPRIGHT_OFFSETS[:15], LOWER_ANKLE_OFFSET, LOWER_ANKLE_OFFSET],
+]
 
 
 def _person(centre: tuple[float, float], height: float, instance_id: int, hidden: tuple[int, ...] = (),

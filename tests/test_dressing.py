@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from vc.render.appearance import WARDROBES, vertex_thickness
+from vc.render.appearance import WARDROBES, Appearance, vertex_thickness
 from vc.render.bodies import BODY_PARTS, Gait, sample_phenotype
 from vc.render.dressing import dress, vertex_normals
 
@@ -40,8 +40,6 @@ def test_nothing_moves_where_nothing_is_worn() -> None:
 def _posed_body(body_model, thickness: dict[str, float]):
     rng = np.random.default_rng(3)
     posed = body_model.pose([sample_phenotype(rng)], [Gait(speed_mps=0.0, phase=0.2, arm_swing=0.3)])
-    from vc.render.appearance import Appearance
-
     appearance = Appearance({part: (0.5, 0.5, 0.5) for part in BODY_PARTS},
                             {part: thickness.get(part, 0.0) for part in BODY_PARTS})
     dressed, joints = dress(posed.vertices[0], posed.keypoints[0], body_model.faces,
@@ -65,8 +63,8 @@ def test_shoes_lift_the_body_by_their_sole_and_hair_adds_to_the_top_of_the_head(
 def test_a_coat_widens_the_torso(body_model) -> None:
     bare, _, dressed, _ = _posed_body(body_model, {"upper": 0.03})
     upper = body_model.vertex_parts == BODY_PARTS.index("upper")
-    width = lambda v: np.ptp(v[upper][:, 1])  # shoulder to shoulder, across the body frame's y
-    assert 0.05 < width(dressed) - width(bare) < 0.065
+    widening = np.ptp(dressed[upper][:, 1]) - np.ptp(bare[upper][:, 1])  # shoulder to shoulder: the body frame's y
+    assert 0.05 < widening < 0.065
 
 
 def test_wardrobes_dress_winter_thicker_than_summer() -> None:
