@@ -55,8 +55,8 @@ def test_shoes_lift_the_body_by_their_sole_and_hair_adds_to_the_top_of_the_head(
     assert dressed[:, 2].min() == pytest.approx(0.0, abs=1e-6)
     top_gain = dressed[:, 2].max() - bare[:, 2].max()
     assert 0.03 < top_gain < 0.047  # the sole's lift plus most of the hair's 2 cm on the crown
-    faces = np.flatnonzero(body_model.vertex_parts == BODY_PARTS.index("skin"))
-    np.testing.assert_allclose(dressed[faces] - bare[faces], np.broadcast_to([0.0, 0.0, lift[0]], (len(faces), 3)),
+    skin = np.flatnonzero(body_model.vertex_parts == BODY_PARTS.index("skin"))
+    np.testing.assert_allclose(dressed[skin] - bare[skin], np.broadcast_to([0.0, 0.0, lift[0]], (len(skin), 3)),
                                atol=1e-5)  # skin (face, hands) is not covered
 
 
