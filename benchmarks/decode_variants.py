@@ -62,7 +62,7 @@ def _field_value(name: str, text: str):
     return int(text) if types[name] in (int, "int") else float(text)
 
 
-def _parse_variants(values: list[list[str]] | None) -> dict[str, dict]:
+def parse_variants(values: list[list[str]] | None) -> dict[str, dict]:
     if not values:
         return VARIANTS
     variants = {}
@@ -150,7 +150,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--external", type=Path, help="a YOLO-pose ONNX model: each variant's pose agreement with it")
     parser.add_argument("--out", type=Path, required=True)
     args = parser.parse_args(argv)
-    variants = {"bundle as exported": {}, **_parse_variants(args.variant)}
+    variants = {"bundle as exported": {}, **parse_variants(args.variant)}
     runtime = Runtime(args.bundle, parallel_regions=False)
     truth = read_mot_boxes(args.gt)
     numbers, maps = heatmaps_of(runtime, FrameSource(args.video, args.frames))

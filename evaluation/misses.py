@@ -24,9 +24,10 @@ read. Boxes are [x0, y0, x1, y1] in frame pixels; matching is :func:`vc.evaluati
      counts against the detector;
    * **background**: none of these (nobody there, or a person too far off to count).
 
-4. Recall is broken down by group (a person whose box overlaps another's by IoU >= :data:`GROUP_IOU`), person
-   height (:data:`HEIGHT_BINS`) and region (the region whose owned image area holds the person's foot point,
-   the bottom centre of the box, as the runtime assigns detections).
+4. Recall is broken down by group (a person whose box overlaps another's by IoU >=
+   :data:`~vc.evaluation.metrics.GROUP_IOU`), person height (:data:`HEIGHT_BINS`) and region (the region whose
+   owned image area holds the person's foot point, the bottom centre of the box, as the runtime assigns
+   detections).
 5. Frames are ranked by their errors (misses, near misses and false positives) for a contact sheet of the worst.
 """
 
@@ -40,12 +41,10 @@ import numpy as np
 from vc.deploy.areas import in_area
 from vc.deploy.boxes import box_iou, foot_points
 from vc.evaluation.annotated_area import AnnotatedArea
-from vc.evaluation.metrics import IOU_THRESHOLD, Evaluation, ImageResult, evaluate
+from vc.evaluation.metrics import IOU_THRESHOLD, Evaluation, ImageResult, evaluate, grouped
 
 #: A detection overlapping a person by at least this IoU (and less than 0.5) makes the person a near miss.
 NEAR_IOU = 0.3
-#: Ground-truth people overlapping another by at least this IoU count as "in a group" (groups, occlusion).
-GROUP_IOU = 0.1
 #: Ground-truth person heights (px) over which recall is broken down.
 HEIGHT_BINS = (0, 60, 80, 100, 10_000)
 OUTCOMES = ("found", "near miss", "missed")
@@ -240,13 +239,6 @@ def operating_point(images: Sequence[ImageResult]) -> OperatingPoint | None:
         kept.append(keep)
         matches.append(dict(pairs))
     return OperatingPoint(evaluation, best, kept, matches)
-
-
-def grouped(boxes: np.ndarray) -> np.ndarray:
-    """Which boxes (N, 4) overlap another by IoU >= :data:`GROUP_IOU`."""
-    iou = box_iou(boxes, boxes)
-    np.fill_diagonal(iou, 0.0)
-    return iou.max(axis=1, initial=0.0) >= GROUP_IOU
 
 
 def _false_positive_kind(detection: np.ndarray, truth: np.ndarray, overlaps: np.ndarray, found: np.ndarray,

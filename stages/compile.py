@@ -117,8 +117,8 @@ class Compilation:
         self.reporter.training(job)
         results = job.run(self.run_folder, self.show_progress, self.executor)
         self.reporter.trained(results, self.run_folder)
-        return {"held_out": {result.region: {key: result.to_dict()[key] for key in ("ap50", "pckh", "mask_iou")}
-                             for result in results}}
+        kept = ("ap50", "pckh", "mask_iou", "recall_overlapping")
+        return {"held_out": {result.region: {key: result.to_dict()[key] for key in kept} for result in results}}
 
     def export(self) -> dict:
         result = export(self.run_folder, self.bundle, self.config.export, show_progress=self.show_progress)

@@ -16,6 +16,8 @@ from conftest import REPO, load_benchmark
 from matplotlib.transforms import Bbox
 
 from vc.deploy.bundle import load_bundle
+from vc.evaluation.renders import asked_for
+from vc.render.dataset import open_region, read_sample
 from vc.scenes.loader import load_scene
 from vc.scenes.regions import plan_regions
 
@@ -477,3 +479,22 @@ def test_the_runtime_profile_accounts_for_each_region_and_the_whole_frame(bundle
     result["machine"] = "test"
     report = profile.report(result, bundle, tmp_path / "clip.avi")
     assert all(f"| {name} |" in report for name in result["regions"]) and "clip.avi" in report
+
+
+def test_groups_on_renders_counts_every_person_asked_for_once_apart_or_in_a_group(bundle, trained_run, tmp_path):
+    load_benchmark("decode_variants")  # groups_on_renders takes its variant parsing from there
+    groups = load_benchmark("groups_on_renders")
+    dataset, out = trained_run.parent / "dataset", tmp_path / "groups"
+    assert groups.main(["--pair", str(bundle), str(dataset), "--region", "r0", "--variant", "one per window",
+                        "min_centre_separation=0.5", "--out", str(out)]) == 0
+    result = json.loads((out / "groups_on_renders.json").read_text())
+    held_out = open_region(dataset, "r0").held_out
+    asked = sum(asked_for(a, (read_sample(s)[1].shape[1], read_sample(s)[1].shape[0]))
+                for s in held_out for a in s.annotations)
+    assert result["held_out_samples"] == len(held_out) and set(result["variants"]) == {"as exported", "one per window"}
+    for variant in result["variants"].values():
+        assert variant["people_apart"] + variant["people_overlapping"] == asked > 0
+        assert variant["of_which_one_box_for_two"] <= variant["overlapping_not_found_at_the_operating_point"]
+    assert result["variants"]["one per window"]["changes"] == {"min_centre_separation": 0.5}
+    assert (out / "groups_on_renders.png").stat().st_size > 0 and "| one per window |" in (
+        out / "groups_on_renders.md").read_text()

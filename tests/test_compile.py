@@ -47,6 +47,8 @@ def test_every_stage_runs_and_is_recorded(compiled):
     assert list(state["stages"]) == ["check", "render", "train", "export", "self-test"]
     assert state["stages"]["self-test"]["frames"] == 2 and state["stages"]["self-test"]["people_asked_for"] > 0
     assert set(state["stages"]["export"]["precision"]) == {"r0", "r1"}
+    for accuracy in state["stages"]["train"]["held_out"].values():  # what the summary prints, groups included
+        assert set(accuracy) == {"ap50", "pckh", "mask_iou", "recall_overlapping"}
     for path in ("bundle/manifest.json", "run/metrics.json", "overlay.png"):
         assert (output / path).is_file()
 

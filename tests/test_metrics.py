@@ -84,3 +84,20 @@ def test_ignored_truth_is_neither_a_miss_nor_a_match() -> None:
     stray = ImageResult(truth_boxes=truth, boxes=np.array([[0, 0, 10, 20], [100, 0, 110, 20]], float),
                         scores=np.array([0.5, 0.9]), truth_ignore=np.array([False, True]))
     assert evaluate([stray]).ap50 == pytest.approx(0.5)
+
+
+def test_recall_of_people_in_groups_counts_the_ones_a_merged_detection_loses() -> None:
+    # Two people one behind the other (IoU 0.6) found by one box, a third apart and found: overall recall 2/3,
+    # the pair's 1/2. A pair whose partner is too hidden to ask for (ignored) is still a group of one.
+    pair = np.array([[10.0, 10.0, 30.0, 70.0], [12.0, 14.0, 32.0, 76.0]])
+    apart = np.array([[100.0, 10.0, 120.0, 70.0]])
+    one_for_two = ImageResult(np.vstack([pair, apart]), np.vstack([pair[:1], apart]), np.array([0.9, 0.8]))
+    evaluation = evaluate([one_for_two])
+    assert evaluation.recall[-1] == pytest.approx(2 / 3)
+    assert evaluation.overlapping == 2 and evaluation.recall_overlapping == pytest.approx(0.5)
+    assert evaluation.to_dict()["recall_overlapping"] == 0.5
+    hidden_partner = ImageResult(pair, pair[1:], np.array([0.9]), truth_ignore=np.array([True, False]))
+    evaluation = evaluate([hidden_partner])
+    assert evaluation.overlapping == 1 and evaluation.recall_overlapping == 1.0
+    alone = evaluate([ImageResult(apart, apart, np.array([0.9]))])
+    assert alone.overlapping == 0 and alone.recall_overlapping is None

@@ -109,8 +109,11 @@ def _summary(state: dict, out: Path) -> str:
     lines += [f"  {name:<10} {record['seconds']:8.0f}" for name, record in stages.items()]
     lines.append(f"  total      {sum(record['seconds'] for record in stages.values()):8.0f}")
     for name, accuracy in stages["train"]["held_out"].items():
+        grouped = accuracy.get("recall_overlapping")  # (absent from compiles resumed from before it was measured)
         lines.append(f"  {name}: held-out synthetic AP50 {accuracy['ap50']:.3f}, PCKh@0.5 {accuracy['pckh'] or 0:.3f}, "
-                     f"mask IoU {accuracy['mask_iou'] or 0:.3f}, {stages['export']['precision'][name]}")
+                     f"mask IoU {accuracy['mask_iou'] or 0:.3f}, "
+                     + (f"recall of people overlapping another {grouped:.3f}, " if grouped is not None else "")
+                     + stages["export"]["precision"][name])
     test = stages["self-test"]
     lines.append(f"  bundle {stages['export']['bundle_bytes'] / 1e6:.2f} MB -> {out / 'bundle'}")
     lines.append(f"  self-test on {test['frames']} composed full frames: AP50 {test['ap50']:.3f}, "

@@ -4,8 +4,9 @@
              [--batch-size B] [--seed K] [--centre-offsets [--offset-weight W]]
 
 Writes ``RUN/checkpoints/<region>.pt`` (resumable: run the same command again after an interruption),
-``RUN/metrics.json`` (held-out synthetic AP50, PCKh@0.5 overall and per keypoint, mask IoU, training speed, per
-region), ``RUN/precision_recall.png`` and, per region, ``RUN/<region>/{precision_recall,training_loss}.png``.
+``RUN/metrics.json`` (held-out synthetic AP50, PCKh@0.5 overall and per keypoint, mask IoU, recall of people
+overlapping another, training speed, per region), ``RUN/precision_recall.png`` and, per region,
+``RUN/<region>/{precision_recall,training_loss}.png``.
 A scene planned with ``regions: {mode: single}`` has one region for its whole walkable area: training it is the
 paper's SPN-G. Bad input prints one ``error:`` line and exits with status 2.
 """
@@ -65,11 +66,14 @@ def report_job(job: TrainingJob) -> None:
 
 
 def report_results(results: list[RegionResult], run: Path) -> None:
-    lines = [f"{'region':8} {'AP50':>6} {'PCKh':>6} {'maskIoU':>8} {'people':>7} {'steps':>6} {'min':>6} {'img/s':>6}"]
+    lines = [f"{'region':8} {'AP50':>6} {'PCKh':>6} {'maskIoU':>8} {'people':>7} {'grouped':>12} {'steps':>6} "
+             f"{'min':>6} {'img/s':>6}"]
     for result in results:
         evaluation: Evaluation = result.evaluation.evaluation
+        grouped = (f"{evaluation.recall_overlapping:.3f} of {evaluation.overlapping}"
+                   if evaluation.recall_overlapping is not None else "none")
         lines.append(f"{result.region:8} {evaluation.ap50:6.3f} {evaluation.pckh or 0:6.3f} "
-                     f"{evaluation.mask_iou or 0:8.3f} {evaluation.ground_truth:7d} {result.steps:6d} "
+                     f"{evaluation.mask_iou or 0:8.3f} {evaluation.ground_truth:7d} {grouped:>12} {result.steps:6d} "
                      f"{result.train_seconds / 60:6.1f} {result.images_per_second:6.1f}")
     print("\n".join(lines))
     print(f"checkpoints in {run / 'checkpoints'}, metrics in {run / METRICS}")
