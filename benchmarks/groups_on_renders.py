@@ -56,6 +56,8 @@ def held_out_maps(entry: RegionEntry, renders: Path) -> list[tuple[Sample, np.nd
 
 
 def decoded(cache: list[tuple[RegionEntry, Sample, np.ndarray, np.ndarray]], changes: dict) -> list[ImageResult]:
+    """Every cached render's heat maps decoded with ``changes`` to its bundle's ``DecodeConfig``, in the metrics'
+    terms."""
     return [image_result(sample.annotations, instances,
                          decode(maps, replace(entry.decode, **changes), entry.expected_height_px), entry.decode.stride)
             for entry, sample, instances, maps in cache]
