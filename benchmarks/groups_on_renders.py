@@ -33,7 +33,7 @@ from tqdm import tqdm  # noqa: E402
 
 from vc.deploy.bundle import RegionEntry, load_bundle  # noqa: E402
 from vc.deploy.decode import decode  # noqa: E402
-from vc.evaluation.metrics import ImageResult, evaluate, grouped  # noqa: E402
+from vc.evaluation.metrics import Evaluation, ImageResult, evaluate, grouped  # noqa: E402
 from vc.evaluation.misses import analyse_misses  # noqa: E402
 from vc.evaluation.renders import image_result  # noqa: E402
 from vc.io import write_json  # noqa: E402
@@ -63,10 +63,10 @@ def decoded(cache: list[tuple[RegionEntry, Sample, np.ndarray, np.ndarray]], cha
             for entry, sample, instances, maps in cache]
 
 
-def measure(images: list[ImageResult]) -> dict:
+def measure(images: list[ImageResult], evaluation: Evaluation) -> dict:
     """AP50, recall (every detection kept) of the people apart and of those overlapping another, and how many of
-    the latter the miss analysis's operating point leaves unfound, one box for two or otherwise."""
-    evaluation = evaluate(images)
+    the latter the miss analysis's operating point leaves unfound, one box for two or otherwise; ``evaluation`` is
+    :func:`evaluate` of ``images``."""
     misses = analyse_misses(images, list(range(len(images))))
     overlapping = [p for p in misses.people if p.grouped and p.outcome != "found"] if misses else []
     apart = found_apart = 0
@@ -83,12 +83,11 @@ def measure(images: list[ImageResult]) -> dict:
                                             for p in overlapping)}
 
 
-def centre_separations(cache: list[tuple[RegionEntry, Sample, np.ndarray, np.ndarray]],
-                       images: list[ImageResult]) -> tuple[list[float], list[float]]:
+def centre_separations(cache: list[tuple[RegionEntry, Sample, np.ndarray, np.ndarray]], images: list[ImageResult],
+                       evaluation: Evaluation) -> tuple[list[float], list[float]]:
     """Distance (person heights) from each overlapping, asked-for person's centre to the nearest other centre:
-    for the people found and for those not found."""
+    for the people found and for those not found (``evaluation``: :func:`evaluate` of ``images``)."""
     found, missed = [], []
-    evaluation = evaluate(images)
     for (_, sample, _, _), image, pairs in zip(cache, images, evaluation.matches, strict=True):
         if len(sample.annotations) < 2:  # (the truth boxes are the annotations, in order: image_result)
             continue
@@ -133,11 +132,14 @@ def main(argv: list[str] | None = None) -> int:
             raise SystemExit(f"{bundle}: no region {args.region!r}")
         cache += [(entries[0], *item) for item in held_out_maps(entries[0], renders)]
     variants = {"as exported": {}, **(parse_variants(args.variant) if args.variant else {})}
-    results = {}
+    results, exported = {}, None
     for name, changes in variants.items():
-        results[name] = {"changes": changes, **measure(decoded(cache, changes))}
+        images = decoded(cache, changes)
+        evaluation = evaluate(images)
+        exported = exported or (images, evaluation)  # the first variant: as exported
+        results[name] = {"changes": changes, **measure(images, evaluation)}
         print(f"{name:32s} {json.dumps({k: v for k, v in results[name].items() if k != 'changes'})}")
-    found, missed = centre_separations(cache, decoded(cache, {}))
+    found, missed = centre_separations(cache, *exported)
     separation = cache[0][0].decode.min_centre_separation
     args.out.mkdir(parents=True, exist_ok=True)
     _figure(found, missed, separation, args.out / "groups_on_renders.png",
