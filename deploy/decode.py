@@ -2,7 +2,8 @@
 
 1. People are the local maxima of the centre map above ``centre_threshold`` (3x3 neighbourhood), refined to
    sub-cell precision by a parabola through each peak and its neighbours. A peak closer than
-   ``min_centre_separation`` expected heights to a stronger one is that person's blurred peak, not another.
+   ``min_centre_separation`` expected heights to a stronger one is that person's blurred peak, not another —
+   unless it is at least ``confirmed_separation`` away and its own head confirms it (step 2c).
    Asked for weak people (``weak_above``), the peaks down to that value are decoded too, flagged ``weak``, for a
    tracker to continue tracks with; they take no mask cells or keypoint peaks from the others.
    1b. From a network with centre offsets, each mask cell above ``mask_threshold`` votes for the centre of the
@@ -18,6 +19,10 @@
    2b. With ``exclusive_keypoints``, the candidates are the local maxima of each keypoint map instead of every
    cell, and they are shared out greedily, best prior-weighted value first: a peak goes to one person only, so
    two people side by side never both take the stronger one's wrist.
+   2c. A peak closer to a stronger one than ``min_centre_separation`` (but not closer than
+   ``confirmed_separation``) takes its keypoint peaks after everyone else has: it is a person, one behind or
+   beside the other, when at least ``confirming_head_keypoints`` of the head's maps (nose, eyes, ears) still hold a
+   confident peak for it — a head of its own, where a person's blurred centre finds the head already taken.
 3. The mask cells above ``mask_threshold`` go to the nearest centre (in units of expected height); with centre
    offsets, to the centre nearest the one they vote for.
 4. The box is scene-specific: its top and bottom are the person's own head and feet where their keypoints are
@@ -113,6 +118,18 @@ class DecodeConfig:
     # bundles, TUD-Stadtmitte +0.03). 0.1 found as many (+0.002) but people appearing and vanishing in groups
     # switched identities in tracking half as often again (PETS09 IDF1 0.79 at 0.15, 0.71 at 0.1).
     vote_support: float = 0.15
+    # Step 2c: a centre peak between ``confirmed_separation`` and ``min_centre_separation`` heights from a stronger
+    # one is a person when ``confirming_head_keypoints`` of their head's maps give them a confident peak that no one
+    # else took (exclusive keypoints, so it needs ``exclusive_keypoints``). At or above ``min_centre_separation``:
+    # off. People one behind another stand closer than two heat-map cells at 48 px
+    # (benchmarks/results/groups_pets09.md); a plain 0.12 separation found more of them but duplicated people.
+    confirmed_separation: float = 0.15
+    confirming_head_keypoints: int = 2
+
+    def __post_init__(self) -> None:
+        if self.confirmed_separation < self.min_centre_separation and not self.exclusive_keypoints:
+            raise ValueError("confirmed_separation below min_centre_separation needs exclusive_keypoints: a head "
+                             "confirms a person only with keypoint peaks that no one else took")
 
 
 
@@ -245,7 +262,9 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     floor = config.centre_threshold if weak_above is None else min(weak_above, config.centre_threshold)
     peaks = find_peaks(heatmaps[CENTRE_CHANNEL], floor, config.max_people)
     centres_cells = np.array([centre for _, centre in peaks]).reshape(-1, 2)
-    keep = _separated(centres_cells, heights_px_at(centres_cells) / stride, config.min_centre_separation)
+    keep, close = _separated(centres_cells, heights_px_at(centres_cells) / stride, config.min_centre_separation,
+                             config.confirmed_separation)
+    unconfirmed = [(peaks[i][0], centres_cells[i]) for i in close if peaks[i][0] >= config.centre_threshold]
     peaks, centres_cells = [peaks[i] for i in keep], centres_cells[keep]
 
     mask = heatmaps[MASK_CHANNEL]
@@ -266,10 +285,28 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
                 centres_cells = np.vstack([centres_cells, centre])
     if not peaks:
         return []
+    strong = np.array([score >= config.centre_threshold for score, _ in peaks])
+    keypoint_maps = heatmaps[KEYPOINT_CHANNELS]
+    shared_out: dict[int, np.ndarray] = {}
+    if config.exclusive_keypoints:
+        # Step 2b, and 2c for the unconfirmed peaks: they choose after the strong people, who get what they would
+        # without them.
+        strong_indices = np.flatnonzero(strong)
+        choosing = np.vstack([centres_cells[strong], *(centre for _, centre in unconfirmed)]).reshape(-1, 2)
+        shares, own_peaks = _exclusive_keypoints(keypoint_maps, choosing, heights_px_at(choosing) / stride, config,
+                                                 first=np.arange(len(choosing)) < len(strong_indices))
+        shared_out = dict(zip(strong_indices.tolist(), shares[:len(strong_indices)], strict=True))
+        head_peaks = (own_peaks[:, HEAD_KEYPOINTS]
+                      & (shares[:, HEAD_KEYPOINTS, 2] >= config.keypoint_threshold)).sum(axis=1)
+        for (score, centre), keypoints_found, heads in zip(unconfirmed, shares[len(strong_indices):],
+                                                           head_peaks[len(strong_indices):], strict=True):
+            if heads >= config.confirming_head_keypoints and len(peaks) < config.max_people:
+                shared_out[len(peaks)] = keypoints_found
+                peaks.append((score, centre))
+                centres_cells = np.vstack([centres_cells, centre])
+                strong = np.append(strong, True)
     heights_px = heights_px_at(centres_cells)
     heights_cells = heights_px / stride
-
-    strong = np.array([score >= config.centre_threshold for score, _ in peaks])
 
     # Mask cells go to the centre nearest their vote, distance measured in expected heights (a strong person's, to
     # the nearest strong centre: weak people take nothing from them). Only foreground cells are owned, so only they
@@ -280,10 +317,6 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     strong_indices = np.flatnonzero(strong)
     owner_among_strong = strong_indices[np.argmin(scaled[strong_indices], axis=0)] if len(strong_indices) else owner
 
-    keypoint_maps = heatmaps[KEYPOINT_CHANNELS]
-    shared_out = (dict(zip(strong_indices, _exclusive_keypoints(keypoint_maps, centres_cells[strong],
-                                                                heights_cells[strong], config), strict=True))
-                  if config.exclusive_keypoints else {})
     searched = [index for index in range(len(peaks)) if index not in shared_out]
     own_keypoints = dict(zip(searched, _keypoints(keypoint_maps, centres_cells[searched], heights_cells[searched],
                                                   config), strict=True))
@@ -371,11 +404,13 @@ def _keypoints(keypoint_maps: np.ndarray, centres_cells: np.ndarray, heights_cel
 
 
 def _exclusive_keypoints(keypoint_maps: np.ndarray, centres_cells: np.ndarray, heights_cells: np.ndarray,
-                         config: DecodeConfig) -> np.ndarray:
+                         config: DecodeConfig, first: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """(N, 17, 3) keypoints of the N people at ``centres_cells`` with each keypoint peak given to one person at
     most (step 2b): per keypoint map, every (person, peak) pair is scored by the peak's value times the person's
     upright prior (as in :func:`_keypoints`, cut at 3 prior widths), and pairs are taken best first while both
-    are free. A person who gets no peak has the keypoint at its upright position, with the map's value there."""
+    are free — the pairs of the people ``first`` (N,) bool, if given, before anyone else's. A person who gets no
+    peak has the keypoint at its upright position, with the map's value there. Also returns (N, 17) bool: which
+    keypoints are a peak the person took (step 2c counts them)."""
     count, channels = len(centres_cells), keypoint_maps.shape[0]
     _, height, width = keypoint_maps.shape
     sigmas = config.search_sigma * heights_cells  # (N,)
@@ -392,12 +427,14 @@ def _exclusive_keypoints(keypoint_maps: np.ndarray, centres_cells: np.ndarray, h
     near = (np.abs(offset) <= reach[:, None, None]).all(-1) & on_map[:, peak_maps]
     scores = np.where(near, values[None] * np.exp(-(offset**2).sum(-1) / (2.0 * sigmas[:, None] ** 2)), 0.0)
     candidates = np.flatnonzero(scores > 0.0)
+    order = (np.argsort(-scores.ravel()[candidates], kind="stable") if first is None else
+             np.lexsort((-scores.ravel()[candidates], ~first[candidates // max(len(values), 1)])))
     # (Python sets and lists: the loop reads one element at a time, which numpy arrays make slow.)
     slots_taken: set[tuple[int, int]] = set()
     peaks_taken: set[int] = set()
     owners, owned = [], []
     map_of_peak = peak_maps.tolist()
-    for flat in candidates[np.argsort(-scores.ravel()[candidates], kind="stable")].tolist():
+    for flat in candidates[order].tolist():
         person, peak = divmod(flat, len(values))
         slot = (person, map_of_peak[peak])
         if slot in slots_taken or peak in peaks_taken:
@@ -417,7 +454,7 @@ def _exclusive_keypoints(keypoint_maps: np.ndarray, centres_cells: np.ndarray, h
     nearest = np.minimum(np.maximum(np.round(expected[people, lacking]).astype(int), 0),
                          [width - 1, height - 1])  # (x, y) cells
     keypoints[people, lacking, 2] = keypoint_maps[lacking, nearest[:, 1], nearest[:, 0]]
-    return keypoints
+    return keypoints, taken
 
 
 def _search_windows(expected: np.ndarray, reach: np.ndarray,
@@ -534,18 +571,26 @@ def _update_window_sums(sums: np.ndarray, grid: np.ndarray, radius: int, row: in
                                 columns.start - read_columns.start:columns.stop - read_columns.start]
 
 
-def _separated(centres_cells: np.ndarray, heights_cells: np.ndarray, separation: float) -> list[int]:
+def _separated(centres_cells: np.ndarray, heights_cells: np.ndarray, separation: float,
+               confirmed_separation: float) -> tuple[list[int], list[int]]:
     """Indices of the peaks (strongest first) that lie at least ``separation`` expected heights from every
-    stronger peak kept: two centres closer than that are one person's blurred peak, not two people."""
+    stronger peak kept: two centres closer than that are one person's blurred peak, not two people. And of the
+    others that lie at least ``confirmed_separation`` from every stronger peak kept and ``separation`` from every
+    stronger one of themselves: a person if their own head confirms it (step 2c); none where the two separations
+    are equal."""
     # apart[i, j]: peak i is far enough from peak j, in j's expected heights (all pairs at once; the greedy pass
     # over them is then plain Python on a handful of peaks)
-    apart = (np.hypot(*(centres_cells[:, None] - centres_cells[None]).transpose(2, 0, 1))
-             >= separation * heights_cells[None]).tolist()
+    distances = np.hypot(*(centres_cells[:, None] - centres_cells[None]).transpose(2, 0, 1))
+    apart = (distances >= separation * heights_cells[None]).tolist()
+    not_too_close = (distances >= confirmed_separation * heights_cells[None]).tolist()
     kept: list[int] = []
-    for index, row in enumerate(apart):
+    close: list[int] = []
+    for index, (row, row_close) in enumerate(zip(apart, not_too_close, strict=True)):
         if all(row[other] for other in kept):
             kept.append(index)
-    return kept
+        elif all(row_close[other] for other in kept) and all(row[other] for other in close):
+            close.append(index)
+    return kept, close
 
 
 #: Head keypoints (nose, eyes, ears) and ankles: the top and the bottom of a person's keypoints.

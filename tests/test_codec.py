@@ -275,6 +275,46 @@ def test_a_sharper_centre_map_keeps_one_person_behind_another_as_two():
     assert sharp["loss"].detection == pytest.approx(4.0)  # a quarter of the area, four times the weight
 
 
+def _behind_and_front(with_person_behind: bool) -> tuple[np.ndarray, np.ndarray]:
+    """A person and, 0.13 of their height up and to the side, either a second person one behind them or only a
+    second centre peak (the blur a network draws around one person): the codec's maps with a sharp centre map, so
+    that both centres are peaks, and the expected heights."""
+    front = _person((128.0, 100.0), 100.0, 1)
+    behind = _person((138.0, 92.0), 100.0, 2)
+    people = [front, behind] if with_person_behind else [front]
+    heatmaps = encode(people, _instances(people), CodecConfig(stride=STRIDE, centre_sigma=0.04))
+    if not with_person_behind:
+        rows, columns = np.indices(heatmaps.shape[1:])
+        x, y = input_to_cells(behind["center"], STRIDE)
+        heatmaps[CENTRE_CHANNEL] = np.maximum(heatmaps[CENTRE_CHANNEL],
+                                              0.8 * np.exp(-((columns - x) ** 2 + (rows - y) ** 2) / 2.0))
+    return heatmaps, np.full(heatmaps.shape[1:], 100.0)
+
+
+def test_a_close_peak_with_a_head_of_its_own_is_a_second_person_and_a_blur_is_not():
+    """Step 2c: two centre peaks 0.13 heights apart are one person at the default separation (0.15). Letting
+    peaks down to 0.08 apart through when their own head confirms them finds the person behind, whose head maps
+    show a second head, and leaves a lone person's blurred second peak out: the front person takes the one head
+    first, and comes out exactly as without the step."""
+    confirming = DecodeConfig(stride=STRIDE, confirmed_separation=0.08)
+    two, heights = _behind_and_front(with_person_behind=True)
+    assert len(decode(two, DecodeConfig(stride=STRIDE), heights)) == 1
+    found = sorted(decode(two, confirming, heights), key=lambda person: person.centre[0])
+    assert len(found) == 2
+    np.testing.assert_allclose([person.centre for person in found], [[128.0, 100.0], [138.0, 92.0]], atol=1.5)
+    blurred, heights = _behind_and_front(with_person_behind=False)
+    (alone,) = decode(blurred, DecodeConfig(stride=STRIDE), heights)
+    (confirmed_alone,) = decode(blurred, confirming, heights)
+    np.testing.assert_allclose(confirmed_alone.keypoints, alone.keypoints)
+    np.testing.assert_allclose(confirmed_alone.box, alone.box)
+
+
+def test_confirming_a_close_peak_needs_exclusive_keypoints():
+    with pytest.raises(ValueError, match="exclusive_keypoints"):
+        DecodeConfig(confirmed_separation=0.08, exclusive_keypoints=False)
+    assert DecodeConfig(confirmed_separation=0.2).confirmed_separation == 0.2  # above the separation: off
+
+
 @pytest.mark.parametrize("exclusive", [False, True])
 def test_weak_people_are_decoded_when_asked_and_take_nothing_from_the_others(exclusive):
     """Two people side by side, the right one's centre peak faded below the threshold: asked for weak people, the
