@@ -8,7 +8,7 @@
    tracker to continue tracks with; they take no mask cells or keypoint peaks from the others.
    1b. From a network with centre offsets, each mask cell above ``mask_threshold`` votes for the centre of the
    person it belongs to (cell + offset x expected height). Votes that no centre of step 1 claims (within
-   ``min_centre_separation``) and that gather at least ``vote_support`` of a person's pixels around one point are
+   ``vote_separation``) and that gather at least ``vote_support`` of a person's pixels around one point are
    a person the centre map merged into a neighbour's peak, or blurred between people: a peak few pixels vote for
    moves there, else they are added at their votes' mean, scored by the centre map there.
 2. Each keypoint is the maximum of its map weighted by a Gaussian prior around where that keypoint sits on an
@@ -35,6 +35,7 @@ Coordinates are network-input pixels (pixel centres at integers) unless named ``
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -49,6 +50,7 @@ from vc.deploy.heatmaps import (
     MASK_CHANNEL,
     OFFSET_CHANNELS,
     cells_to_input,
+    input_to_cells,
     swap_pairs,
 )
 from vc.keypoints import COCO_KEYPOINTS
@@ -69,6 +71,10 @@ PERSON_AREA = 0.18
 #: A centre peak that few pixels vote for, this close (person heights) to where votes put a person, is the blur of
 #: the people around it (step 1b): two people side by side blur into a peak about a quarter height from each.
 MERGED_PEAK_REACH = 0.5
+#: Peaks of different head maps (nose, eyes, ears) whose centres (step 2c) lie this close, in person heights, are
+#: one head: a head's keypoints lie within 0.05 heights of each other, and their upright offsets vary by about as
+#: much with the head's tilt.
+HEAD_CLUSTER_REACH = 0.1
 #: The lower of a person's two ankles, measured likewise (0.439 bare): the planted foot's, which the box's bottom
 #: follows (the other foot swings up to 0.1 heights higher).
 LOWER_ANKLE_OFFSET = 0.427
@@ -118,6 +124,9 @@ class DecodeConfig:
     # bundles, TUD-Stadtmitte +0.03). 0.1 found as many (+0.002) but people appearing and vanishing in groups
     # switched identities in tracking half as often again (PETS09 IDF1 0.79 at 0.15, 0.71 at 0.1).
     vote_support: float = 0.15
+    # Step 1b's reach of a centre peak over the votes (person heights): votes this close to a peak are its person's,
+    # and the free votes are gathered over windows of this radius. None: ``min_centre_separation``.
+    vote_separation: float | None = None
     # Step 2c: a centre peak between ``confirmed_separation`` and ``min_centre_separation`` heights from a stronger
     # one is a person when ``confirming_head_keypoints`` of their head's maps give them a confident peak that no one
     # else took (exclusive keypoints, so it needs ``exclusive_keypoints``). At or above ``min_centre_separation``:
@@ -125,9 +134,13 @@ class DecodeConfig:
     # (benchmarks/results/groups_pets09.md); a plain 0.12 separation found more of them but duplicated people.
     confirmed_separation: float = 0.15
     confirming_head_keypoints: int = 2
+    # Step 2c's second source: a head that no one took, on ``confirming_head_keypoints`` of the head's maps, where
+    # the centre map passes the threshold ``confirmed_separation`` or more from every strong person.
+    head_proposals: bool = False
 
     def __post_init__(self) -> None:
-        if self.confirmed_separation < self.min_centre_separation and not self.exclusive_keypoints:
+        if (self.confirmed_separation < self.min_centre_separation or self.head_proposals) and \
+                not self.exclusive_keypoints:
             raise ValueError("confirmed_separation below min_centre_separation needs exclusive_keypoints: a head "
                              "confirms a person only with keypoint peaks that no one else took")
 
@@ -289,18 +302,17 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     keypoint_maps = heatmaps[KEYPOINT_CHANNELS]
     shared_out: dict[int, np.ndarray] = {}
     if config.exclusive_keypoints:
-        # Step 2b, and 2c for the unconfirmed peaks: they choose after the strong people, who get what they would
-        # without them.
         strong_indices = np.flatnonzero(strong)
-        choosing = np.vstack([centres_cells[strong], *(centre for _, centre in unconfirmed)]).reshape(-1, 2)
-        shares, own_peaks = _exclusive_keypoints(keypoint_maps, choosing, heights_px_at(choosing) / stride, config,
-                                                 first=np.arange(len(choosing)) < len(strong_indices))
-        shared_out = dict(zip(strong_indices.tolist(), shares[:len(strong_indices)], strict=True))
-        head_peaks = (own_peaks[:, HEAD_KEYPOINTS]
-                      & (shares[:, HEAD_KEYPOINTS, 2] >= config.keypoint_threshold)).sum(axis=1)
-        for (score, centre), keypoints_found, heads in zip(unconfirmed, shares[len(strong_indices):],
-                                                           head_peaks[len(strong_indices):], strict=True):
-            if heads >= config.confirming_head_keypoints and len(peaks) < config.max_people:
+        strong_centres = centres_cells[strong]
+        shares, own_peaks = _exclusive_keypoints(keypoint_maps, strong_centres,
+                                                 heights_px_at(strong_centres) / stride, config)
+        shared_out = dict(zip(strong_indices.tolist(), shares, strict=True))
+        if config.head_proposals:
+            unconfirmed += _head_proposals(heatmaps, shares, own_peaks, strong_centres,
+                                           [centre for _, centre in unconfirmed], heights_px_at, config)
+        for score, centre, keypoints_found in _confirmed_by_heads(keypoint_maps, strong_centres, unconfirmed,
+                                                                  heights_px_at, config):
+            if len(peaks) < config.max_people:
                 shared_out[len(peaks)] = keypoints_found
                 peaks.append((score, centre))
                 centres_cells = np.vstack([centres_cells, centre])
@@ -457,6 +469,94 @@ def _exclusive_keypoints(keypoint_maps: np.ndarray, centres_cells: np.ndarray, h
     return keypoints, taken
 
 
+def _confirmed_by_heads(keypoint_maps: np.ndarray, strong_centres: np.ndarray,
+                        candidates: list[tuple[float, np.ndarray]], heights_px_at: Callable[[np.ndarray], np.ndarray],
+                        config: DecodeConfig) -> list[tuple[float, np.ndarray, np.ndarray]]:
+    """Step 2c: the (score, centre) ``candidates`` (cells) that are people: each takes keypoint peaks after the
+    strong people at ``strong_centres`` (who take what they would without them) and is one when at least
+    ``confirming_head_keypoints`` of the head's maps give it a confident peak. Returns each confirmed candidate's
+    score, centre and (17, 3) keypoints."""
+    if not candidates:
+        return []
+    choosing = np.vstack([strong_centres, *(centre for _, centre in candidates)])
+    keypoints, own_peaks = _exclusive_keypoints(keypoint_maps, choosing, heights_px_at(choosing) / config.stride,
+                                                config, first=np.arange(len(choosing)) < len(strong_centres))
+    heads = (own_peaks[:, HEAD_KEYPOINTS] & (keypoints[:, HEAD_KEYPOINTS, 2] >= config.keypoint_threshold)).sum(axis=1)
+    return [(score, centre, found) for (score, centre), found, head_peaks
+            in zip(candidates, keypoints[len(strong_centres):], heads[len(strong_centres):], strict=True)
+            if head_peaks >= config.confirming_head_keypoints]
+
+
+def _head_proposals(heatmaps: np.ndarray, strong_keypoints: np.ndarray, strong_own_peaks: np.ndarray,
+                    strong_centres: np.ndarray, other_candidates: list[np.ndarray],
+                    heights_px_at: Callable[[np.ndarray], np.ndarray],
+                    config: DecodeConfig) -> list[tuple[float, np.ndarray]]:
+    """Step 2c's second source: heads that no strong person has, where the centre map drew one peak for two.
+
+    1. Every confident peak (``keypoint_threshold``) of the head's maps (nose, eyes, ears) says where a centre
+       lies: below it by its keypoint's upright offset, at the expected height there.
+    2. Strongest first, a peak and the nearest unclustered peak of each other head map whose centres lie within
+       ``HEAD_CLUSTER_REACH`` heights of its own are one head.
+    3. Each strong person has the head holding most of the peaks they took (``strong_keypoints`` (N, 17, 3) input
+       px, ``strong_own_peaks`` (N, 17): which keypoints are peaks they took). A person between two others can
+       take peaks of both heads, map by map; the head they hold most of is theirs, the other is free.
+    4. A free head with at least ``confirming_head_keypoints`` peaks no one took is a candidate at its peaks' mean
+       centre, scored by the centre map there, when that passes the centre threshold and lies inside the map,
+       ``confirmed_separation`` from every strong centre and ``min_centre_separation`` from ``other_candidates``
+       (cells) and the candidates before it."""
+    stride = config.stride
+    maps, values, positions = local_maxima(heatmaps[KEYPOINT_CHANNELS][HEAD_KEYPOINTS], config.keypoint_threshold)
+    if len(maps) < config.confirming_head_keypoints:
+        return []
+    below = -UPRIGHT_OFFSETS[HEAD_KEYPOINTS[maps]]  # (K,) heights from the keypoint down to the centre
+    centres = positions.copy()
+    for _ in range(2):  # the height at the head, then at the centre it gives
+        centres[:, 1] = positions[:, 1] + below * heights_px_at(centres) / stride
+    heights = heights_px_at(centres) / stride
+    taken_cells = input_to_cells(strong_keypoints[:, HEAD_KEYPOINTS, :2], stride)  # (N, 5, 2)
+    taken_by = (strong_own_peaks[:, HEAD_KEYPOINTS][:, maps]
+                & (np.abs(taken_cells[:, maps] - positions[None]).max(axis=-1) < 1e-6))  # (N, K)
+    head_of = np.full(len(maps), -1)
+    heads: list[list[int]] = []
+    for seed in np.argsort(-values, kind="stable").tolist():
+        if head_of[seed] >= 0:
+            continue
+        distances = np.hypot(*(centres - centres[seed]).T) / heights[seed]
+        members = [seed]
+        for head_map in range(len(HEAD_KEYPOINTS)):
+            near = np.flatnonzero((head_of < 0) & (maps == head_map) & (distances <= HEAD_CLUSTER_REACH))
+            if head_map != maps[seed] and len(near):
+                members.append(int(near[np.argmin(distances[near])]))
+        head_of[members] = len(heads)
+        heads.append(members)
+    held = np.zeros(len(heads), bool)
+    for person_taken in taken_by:
+        if person_taken.any():
+            held[np.argmax(np.bincount(head_of[person_taken], minlength=len(heads)))] = True
+    centre_map = heatmaps[CENTRE_CHANNEL]
+    height, width = centre_map.shape
+    placed = [*strong_centres, *other_candidates]
+    apart_from = [config.confirmed_separation] * len(strong_centres) + [config.min_centre_separation] * len(
+        other_candidates)
+    proposals: list[tuple[float, np.ndarray]] = []
+    for head, members in enumerate(heads):
+        if held[head] or (~taken_by[:, members].any(axis=0)).sum() < config.confirming_head_keypoints:
+            continue
+        centre = centres[members].mean(axis=0)
+        row, column = np.round(centre[::-1]).astype(int)
+        if not (0 <= row < height and 0 <= column < width):  # a head at the map's foot: its centre is off it
+            continue
+        score = float(centre_map[row, column])
+        separation = heights_px_at(centre[None])[0] / stride
+        if score >= config.centre_threshold and all(
+                np.hypot(*(centre - other)) >= reach * separation for other, reach in zip(placed, apart_from,
+                                                                                          strict=True)):
+            proposals.append((score, centre))
+            placed.append(centre)
+            apart_from.append(config.min_centre_separation)
+    return proposals
+
+
 def _search_windows(expected: np.ndarray, reach: np.ndarray,
                     shape: tuple[int, int]) -> list[tuple[int, int, int, int]]:
     """Rectangles of cells (row start, row stop, column start, column stop) holding every cell whose peak can lie
@@ -490,7 +590,7 @@ def _vote_centres(voted: np.ndarray, weights: np.ndarray, vote_heights: np.ndarr
     centres of the foreground cells, ``weights`` their mask values, ``vote_heights`` the expected height (cells) at
     each vote, ``shape`` the map's; ``peaks`` (N, 2) the centre peaks, ``peak_heights`` theirs.
 
-    Votes within ``min_centre_separation`` heights of a peak are that peak's. The rest are summed on the map, each
+    Votes within ``vote_separation`` heights of a peak are that peak's. The rest are summed on the map, each
     as its share of one person's pixels (:data:`PERSON_AREA`), over windows of that separation (at the votes' median
     height): the heaviest window, if it holds at least ``vote_support`` of a person, is a person at its votes'
     weighted mean; its votes leave the map, and the next heaviest is weighed, at most ``max_people`` times
@@ -504,7 +604,8 @@ def _vote_centres(voted: np.ndarray, weights: np.ndarray, vote_heights: np.ndarr
     height, width = shape
     share = weights / (PERSON_AREA * vote_heights**2)  # each vote's share of one person's pixels
     distances = np.hypot(voted[:, None, 0] - peaks[None, :, 0], voted[:, None, 1] - peaks[None, :, 1])  # (M, N)
-    claims = distances <= config.min_centre_separation * peak_heights[None]
+    separation = config.min_centre_separation if config.vote_separation is None else config.vote_separation
+    claims = distances <= separation * peak_heights[None]
     unsupported = share @ claims < config.vote_support  # (N,): peaks that few pixels vote for
     cells = np.round(voted).astype(int)
     free = ~claims.any(axis=1) & (cells[:, 0] >= 0) & (cells[:, 0] < width) & (cells[:, 1] >= 0) & (
@@ -513,7 +614,7 @@ def _vote_centres(voted: np.ndarray, weights: np.ndarray, vote_heights: np.ndarr
     added: list[np.ndarray] = []
     if not free.any():
         return moved, added
-    radius = max(1, int(round(config.min_centre_separation * _median(vote_heights[free]))))
+    radius = max(1, int(round(separation * _median(vote_heights[free]))))
     votes_map = np.zeros(shape)
     np.add.at(votes_map, (cells[free, 1], cells[free, 0]), share[free])
     support = _window_sums(votes_map, radius)

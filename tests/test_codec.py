@@ -309,9 +309,34 @@ def test_a_close_peak_with_a_head_of_its_own_is_a_second_person_and_a_blur_is_no
     np.testing.assert_allclose(confirmed_alone.box, alone.box)
 
 
+def test_a_head_no_one_took_is_the_person_one_centre_peak_stood_for_with_another():
+    """Step 2c's head proposals: one person a little behind another, the centre map one blob between them (what a
+    network draws at 48 px), the head maps two heads. The centre peak takes one head; the other head, on every head
+    map and over a centre map above the threshold, 0.085 heights from the peak, is the second person. A lone
+    person's head gives no one else."""
+    front, behind = _person((128.0, 100.0), 100.0, 1), _person((140.0, 88.0), 100.0, 2)
+    heatmaps = encode([front, behind], _instances([front, behind]), CodecConfig(stride=STRIDE))
+    rows, columns = np.indices(heatmaps.shape[1:])
+    x, y = input_to_cells([134.0, 94.0], STRIDE)
+    heatmaps[CENTRE_CHANNEL] = np.exp(-((columns - x) ** 2 + (rows - y) ** 2) / (2 * 2.5**2))
+    heights = np.full(heatmaps.shape[1:], 100.0)
+    assert len(decode(heatmaps, DecodeConfig(stride=STRIDE), heights)) == 1
+    proposing = DecodeConfig(stride=STRIDE, head_proposals=True, confirmed_separation=0.08)
+    found = decode(heatmaps, proposing, heights)
+    assert len(found) == 2
+    heads = sorted(person.keypoints[0, :2].tolist() for person in found)  # each with a nose of its own
+    np.testing.assert_allclose(heads, sorted([front["keypoints"][:2], behind["keypoints"][:2]]), atol=1.5)
+    alone = encode([front], _instances([front]), CodecConfig(stride=STRIDE))
+    (default,) = decode(alone, DecodeConfig(stride=STRIDE), heights)
+    (proposed,) = decode(alone, proposing, heights)
+    np.testing.assert_allclose(proposed.box, default.box)
+
+
 def test_confirming_a_close_peak_needs_exclusive_keypoints():
     with pytest.raises(ValueError, match="exclusive_keypoints"):
         DecodeConfig(confirmed_separation=0.08, exclusive_keypoints=False)
+    with pytest.raises(ValueError, match="exclusive_keypoints"):
+        DecodeConfig(head_proposals=True, exclusive_keypoints=False)
     assert DecodeConfig(confirmed_separation=0.2).confirmed_separation == 0.2  # above the separation: off
 
 
@@ -380,6 +405,23 @@ def test_votes_split_one_blob_into_its_two_people_each_boxed_by_its_own_pixels()
         # the box spans this person's pixels, not the pair's
         assert match.box[0] == pytest.approx(x0, abs=STRIDE + 3.0) and match.box[2] == pytest.approx(
             x0 + width, abs=STRIDE + 3.0)
+
+
+def test_a_shorter_vote_reach_keeps_the_votes_of_a_person_close_behind_another_apart() -> None:
+    """Two people 0.12 heights apart, one behind the other, the centre map one peak on the front one (what a network
+    draws at 48 px): the pixels of the one behind vote for their own centre, inside the default vote reach (the
+    centre separation, 0.15) of the front one's peak, which claims them. A shorter reach (``vote_separation``)
+    leaves them free, and they are the second person."""
+    front, behind = _person((110.3, 95.7), 100.0, 1), _person((122.3, 95.7), 100.0, 2)
+    heatmaps = encode([front, behind], _instances([front, behind]), CodecConfig(stride=STRIDE, centre_offsets=True))
+    rows, columns = np.indices(heatmaps.shape[1:])
+    x, y = input_to_cells(front["center"], STRIDE)
+    heatmaps[CENTRE_CHANNEL] = np.exp(-((columns - x) ** 2 + (rows - y) ** 2) / (2 * 3.0**2))
+    heights = np.full(heatmaps.shape[1:], 100.0)
+    assert len(decode(heatmaps, DecodeConfig(stride=STRIDE), heights)) == 1
+    found = decode(heatmaps, DecodeConfig(stride=STRIDE, vote_separation=0.08), heights)
+    assert len(found) == 2
+    np.testing.assert_allclose(sorted(person.centre[0] for person in found), [110.3, 122.3], atol=1.5)
 
 
 def test_a_lone_person_s_votes_add_nobody_and_scattered_votes_are_not_a_person() -> None:
