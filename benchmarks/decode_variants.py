@@ -48,6 +48,9 @@ VARIANTS: dict[str, dict] = {
     "votes of 0.3 of a person (before)": {"vote_support": 0.3},
     "votes of 0.1 of a person": {"vote_support": 0.1},
     "keypoint peaks shared (before)": {"exclusive_keypoints": False},
+    # Step 1b's reach apart from the peaks' separation (benchmarks/results/vote_reach_pets09.md).
+    "votes reach 0.12": {"vote_separation": 0.12},
+    "votes reach 0.10": {"vote_separation": 0.10},
 }
 
 

@@ -150,7 +150,7 @@ def load_bundle(path: str | Path, public_key: Path | bytes | None = None) -> Bun
         heights = np.load(io.BytesIO(_checked(files, entry, "expected_height", where)), allow_pickle=False)
         try:
             decode = DecodeConfig(**_require(entry, "decode", dict, where, path))
-        except (TypeError, ValueError) as error:
+        except TypeError as error:
             raise InputError(path, f"{where}decode", str(error)) from None
         regions.append(RegionEntry(
             name=_require(entry, "name", str, where, path),

@@ -2,8 +2,7 @@
 
 1. People are the local maxima of the centre map above ``centre_threshold`` (3x3 neighbourhood), refined to
    sub-cell precision by a parabola through each peak and its neighbours. A peak closer than
-   ``min_centre_separation`` expected heights to a stronger one is that person's blurred peak, not another —
-   unless it is at least ``confirmed_separation`` away and its own head confirms it (step 2c).
+   ``min_centre_separation`` expected heights to a stronger one is that person's blurred peak, not another.
    Asked for weak people (``weak_above``), the peaks down to that value are decoded too, flagged ``weak``, for a
    tracker to continue tracks with; they take no mask cells or keypoint peaks from the others.
    1b. From a network with centre offsets, each mask cell above ``mask_threshold`` votes for the centre of the
@@ -19,10 +18,6 @@
    2b. With ``exclusive_keypoints``, the candidates are the local maxima of each keypoint map instead of every
    cell, and they are shared out greedily, best prior-weighted value first: a peak goes to one person only, so
    two people side by side never both take the stronger one's wrist.
-   2c. A peak closer to a stronger one than ``min_centre_separation`` (but not closer than
-   ``confirmed_separation``) takes its keypoint peaks after everyone else has: it is a person, one behind or
-   beside the other, when at least ``confirming_head_keypoints`` of the head's maps (nose, eyes, ears) still hold a
-   confident peak for it — a head of its own, where a person's blurred centre finds the head already taken.
 3. The mask cells above ``mask_threshold`` go to the nearest centre (in units of expected height); with centre
    offsets, to the centre nearest the one they vote for.
 4. The box is scene-specific: its top and bottom are the person's own head and feet where their keypoints are
@@ -35,7 +30,6 @@ Coordinates are network-input pixels (pixel centres at integers) unless named ``
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -50,7 +44,6 @@ from vc.deploy.heatmaps import (
     MASK_CHANNEL,
     OFFSET_CHANNELS,
     cells_to_input,
-    input_to_cells,
     swap_pairs,
 )
 from vc.keypoints import COCO_KEYPOINTS
@@ -71,10 +64,6 @@ PERSON_AREA = 0.18
 #: A centre peak that few pixels vote for, this close (person heights) to where votes put a person, is the blur of
 #: the people around it (step 1b): two people side by side blur into a peak about a quarter height from each.
 MERGED_PEAK_REACH = 0.5
-#: Peaks of different head maps (nose, eyes, ears) whose centres (step 2c) lie this close, in person heights, are
-#: one head: a head's keypoints lie within 0.05 heights of each other, and their upright offsets vary by about as
-#: much with the head's tilt.
-HEAD_CLUSTER_REACH = 0.1
 #: The lower of a person's two ankles, measured likewise (0.439 bare): the planted foot's, which the box's bottom
 #: follows (the other foot swings up to 0.1 heights higher).
 LOWER_ANKLE_OFFSET = 0.427
@@ -125,24 +114,11 @@ class DecodeConfig:
     # switched identities in tracking half as often again (PETS09 IDF1 0.79 at 0.15, 0.71 at 0.1).
     vote_support: float = 0.15
     # Step 1b's reach of a centre peak over the votes (person heights): votes this close to a peak are its person's,
-    # and the free votes are gathered over windows of this radius. None: ``min_centre_separation``.
+    # and the free votes are gathered over windows of this radius. None: ``min_centre_separation``. Apart from
+    # the peaks' separation because the two fail differently: a second centre peak 0.12 heights from the first is
+    # as often one person's blur (benchmarks/results/groups_pets09.md), while votes 0.12 heights from a peak
+    # gather where a person one behind another stands (benchmarks/results/vote_reach_pets09.md).
     vote_separation: float | None = None
-    # Step 2c: a centre peak between ``confirmed_separation`` and ``min_centre_separation`` heights from a stronger
-    # one is a person when ``confirming_head_keypoints`` of their head's maps give them a confident peak that no one
-    # else took (exclusive keypoints, so it needs ``exclusive_keypoints``). At or above ``min_centre_separation``:
-    # off. People one behind another stand closer than two heat-map cells at 48 px
-    # (benchmarks/results/groups_pets09.md); a plain 0.12 separation found more of them but duplicated people.
-    confirmed_separation: float = 0.15
-    confirming_head_keypoints: int = 2
-    # Step 2c's second source: a head that no one took, on ``confirming_head_keypoints`` of the head's maps, where
-    # the centre map passes the threshold ``confirmed_separation`` or more from every strong person.
-    head_proposals: bool = False
-
-    def __post_init__(self) -> None:
-        if (self.confirmed_separation < self.min_centre_separation or self.head_proposals) and \
-                not self.exclusive_keypoints:
-            raise ValueError("confirmed_separation below min_centre_separation needs exclusive_keypoints: a head "
-                             "confirms a person only with keypoint peaks that no one else took")
 
 
 
@@ -275,9 +251,7 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     floor = config.centre_threshold if weak_above is None else min(weak_above, config.centre_threshold)
     peaks = find_peaks(heatmaps[CENTRE_CHANNEL], floor, config.max_people)
     centres_cells = np.array([centre for _, centre in peaks]).reshape(-1, 2)
-    keep, close = _separated(centres_cells, heights_px_at(centres_cells) / stride, config.min_centre_separation,
-                             config.confirmed_separation)
-    unconfirmed = [(peaks[i][0], centres_cells[i]) for i in close if peaks[i][0] >= config.centre_threshold]
+    keep = _separated(centres_cells, heights_px_at(centres_cells) / stride, config.min_centre_separation)
     peaks, centres_cells = [peaks[i] for i in keep], centres_cells[keep]
 
     mask = heatmaps[MASK_CHANNEL]
@@ -298,27 +272,10 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
                 centres_cells = np.vstack([centres_cells, centre])
     if not peaks:
         return []
-    strong = np.array([score >= config.centre_threshold for score, _ in peaks])
-    keypoint_maps = heatmaps[KEYPOINT_CHANNELS]
-    shared_out: dict[int, np.ndarray] = {}
-    if config.exclusive_keypoints:
-        strong_indices = np.flatnonzero(strong)
-        strong_centres = centres_cells[strong]
-        shares, own_peaks = _exclusive_keypoints(keypoint_maps, strong_centres,
-                                                 heights_px_at(strong_centres) / stride, config)
-        shared_out = dict(zip(strong_indices.tolist(), shares, strict=True))
-        if config.head_proposals:
-            unconfirmed += _head_proposals(heatmaps, shares, own_peaks, strong_centres,
-                                           [centre for _, centre in unconfirmed], heights_px_at, config)
-        for score, centre, keypoints_found in _confirmed_by_heads(keypoint_maps, strong_centres, unconfirmed,
-                                                                  heights_px_at, config):
-            if len(peaks) < config.max_people:
-                shared_out[len(peaks)] = keypoints_found
-                peaks.append((score, centre))
-                centres_cells = np.vstack([centres_cells, centre])
-                strong = np.append(strong, True)
     heights_px = heights_px_at(centres_cells)
     heights_cells = heights_px / stride
+
+    strong = np.array([score >= config.centre_threshold for score, _ in peaks])
 
     # Mask cells go to the centre nearest their vote, distance measured in expected heights (a strong person's, to
     # the nearest strong centre: weak people take nothing from them). Only foreground cells are owned, so only they
@@ -329,6 +286,10 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     strong_indices = np.flatnonzero(strong)
     owner_among_strong = strong_indices[np.argmin(scaled[strong_indices], axis=0)] if len(strong_indices) else owner
 
+    keypoint_maps = heatmaps[KEYPOINT_CHANNELS]
+    shared_out = (dict(zip(strong_indices, _exclusive_keypoints(keypoint_maps, centres_cells[strong],
+                                                                heights_cells[strong], config), strict=True))
+                  if config.exclusive_keypoints else {})
     searched = [index for index in range(len(peaks)) if index not in shared_out]
     own_keypoints = dict(zip(searched, _keypoints(keypoint_maps, centres_cells[searched], heights_cells[searched],
                                                   config), strict=True))
@@ -416,13 +377,11 @@ def _keypoints(keypoint_maps: np.ndarray, centres_cells: np.ndarray, heights_cel
 
 
 def _exclusive_keypoints(keypoint_maps: np.ndarray, centres_cells: np.ndarray, heights_cells: np.ndarray,
-                         config: DecodeConfig, first: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+                         config: DecodeConfig) -> np.ndarray:
     """(N, 17, 3) keypoints of the N people at ``centres_cells`` with each keypoint peak given to one person at
     most (step 2b): per keypoint map, every (person, peak) pair is scored by the peak's value times the person's
     upright prior (as in :func:`_keypoints`, cut at 3 prior widths), and pairs are taken best first while both
-    are free — the pairs of the people ``first`` (N,) bool, if given, before anyone else's. A person who gets no
-    peak has the keypoint at its upright position, with the map's value there. Also returns (N, 17) bool: which
-    keypoints are a peak the person took (step 2c counts them)."""
+    are free. A person who gets no peak has the keypoint at its upright position, with the map's value there."""
     count, channels = len(centres_cells), keypoint_maps.shape[0]
     _, height, width = keypoint_maps.shape
     sigmas = config.search_sigma * heights_cells  # (N,)
@@ -439,14 +398,12 @@ def _exclusive_keypoints(keypoint_maps: np.ndarray, centres_cells: np.ndarray, h
     near = (np.abs(offset) <= reach[:, None, None]).all(-1) & on_map[:, peak_maps]
     scores = np.where(near, values[None] * np.exp(-(offset**2).sum(-1) / (2.0 * sigmas[:, None] ** 2)), 0.0)
     candidates = np.flatnonzero(scores > 0.0)
-    order = (np.argsort(-scores.ravel()[candidates], kind="stable") if first is None else
-             np.lexsort((-scores.ravel()[candidates], ~first[candidates // max(len(values), 1)])))
     # (Python sets and lists: the loop reads one element at a time, which numpy arrays make slow.)
     slots_taken: set[tuple[int, int]] = set()
     peaks_taken: set[int] = set()
     owners, owned = [], []
     map_of_peak = peak_maps.tolist()
-    for flat in candidates[order].tolist():
+    for flat in candidates[np.argsort(-scores.ravel()[candidates], kind="stable")].tolist():
         person, peak = divmod(flat, len(values))
         slot = (person, map_of_peak[peak])
         if slot in slots_taken or peak in peaks_taken:
@@ -466,95 +423,7 @@ def _exclusive_keypoints(keypoint_maps: np.ndarray, centres_cells: np.ndarray, h
     nearest = np.minimum(np.maximum(np.round(expected[people, lacking]).astype(int), 0),
                          [width - 1, height - 1])  # (x, y) cells
     keypoints[people, lacking, 2] = keypoint_maps[lacking, nearest[:, 1], nearest[:, 0]]
-    return keypoints, taken
-
-
-def _confirmed_by_heads(keypoint_maps: np.ndarray, strong_centres: np.ndarray,
-                        candidates: list[tuple[float, np.ndarray]], heights_px_at: Callable[[np.ndarray], np.ndarray],
-                        config: DecodeConfig) -> list[tuple[float, np.ndarray, np.ndarray]]:
-    """Step 2c: the (score, centre) ``candidates`` (cells) that are people: each takes keypoint peaks after the
-    strong people at ``strong_centres`` (who take what they would without them) and is one when at least
-    ``confirming_head_keypoints`` of the head's maps give it a confident peak. Returns each confirmed candidate's
-    score, centre and (17, 3) keypoints."""
-    if not candidates:
-        return []
-    choosing = np.vstack([strong_centres, *(centre for _, centre in candidates)])
-    keypoints, own_peaks = _exclusive_keypoints(keypoint_maps, choosing, heights_px_at(choosing) / config.stride,
-                                                config, first=np.arange(len(choosing)) < len(strong_centres))
-    heads = (own_peaks[:, HEAD_KEYPOINTS] & (keypoints[:, HEAD_KEYPOINTS, 2] >= config.keypoint_threshold)).sum(axis=1)
-    return [(score, centre, found) for (score, centre), found, head_peaks
-            in zip(candidates, keypoints[len(strong_centres):], heads[len(strong_centres):], strict=True)
-            if head_peaks >= config.confirming_head_keypoints]
-
-
-def _head_proposals(heatmaps: np.ndarray, strong_keypoints: np.ndarray, strong_own_peaks: np.ndarray,
-                    strong_centres: np.ndarray, other_candidates: list[np.ndarray],
-                    heights_px_at: Callable[[np.ndarray], np.ndarray],
-                    config: DecodeConfig) -> list[tuple[float, np.ndarray]]:
-    """Step 2c's second source: heads that no strong person has, where the centre map drew one peak for two.
-
-    1. Every confident peak (``keypoint_threshold``) of the head's maps (nose, eyes, ears) says where a centre
-       lies: below it by its keypoint's upright offset, at the expected height there.
-    2. Strongest first, a peak and the nearest unclustered peak of each other head map whose centres lie within
-       ``HEAD_CLUSTER_REACH`` heights of its own are one head.
-    3. Each strong person has the head holding most of the peaks they took (``strong_keypoints`` (N, 17, 3) input
-       px, ``strong_own_peaks`` (N, 17): which keypoints are peaks they took). A person between two others can
-       take peaks of both heads, map by map; the head they hold most of is theirs, the other is free.
-    4. A free head with at least ``confirming_head_keypoints`` peaks no one took is a candidate at its peaks' mean
-       centre, scored by the centre map there, when that passes the centre threshold and lies inside the map,
-       ``confirmed_separation`` from every strong centre and ``min_centre_separation`` from ``other_candidates``
-       (cells) and the candidates before it."""
-    stride = config.stride
-    maps, values, positions = local_maxima(heatmaps[KEYPOINT_CHANNELS][HEAD_KEYPOINTS], config.keypoint_threshold)
-    if len(maps) < config.confirming_head_keypoints:
-        return []
-    below = -UPRIGHT_OFFSETS[HEAD_KEYPOINTS[maps]]  # (K,) heights from the keypoint down to the centre
-    centres = positions.copy()
-    for _ in range(2):  # the height at the head, then at the centre it gives
-        centres[:, 1] = positions[:, 1] + below * heights_px_at(centres) / stride
-    heights = heights_px_at(centres) / stride
-    taken_cells = input_to_cells(strong_keypoints[:, HEAD_KEYPOINTS, :2], stride)  # (N, 5, 2)
-    taken_by = (strong_own_peaks[:, HEAD_KEYPOINTS][:, maps]
-                & (np.abs(taken_cells[:, maps] - positions[None]).max(axis=-1) < 1e-6))  # (N, K)
-    head_of = np.full(len(maps), -1)
-    heads: list[list[int]] = []
-    for seed in np.argsort(-values, kind="stable").tolist():
-        if head_of[seed] >= 0:
-            continue
-        distances = np.hypot(*(centres - centres[seed]).T) / heights[seed]
-        members = [seed]
-        for head_map in range(len(HEAD_KEYPOINTS)):
-            near = np.flatnonzero((head_of < 0) & (maps == head_map) & (distances <= HEAD_CLUSTER_REACH))
-            if head_map != maps[seed] and len(near):
-                members.append(int(near[np.argmin(distances[near])]))
-        head_of[members] = len(heads)
-        heads.append(members)
-    held = np.zeros(len(heads), bool)
-    for person_taken in taken_by:
-        if person_taken.any():
-            held[np.argmax(np.bincount(head_of[person_taken], minlength=len(heads)))] = True
-    centre_map = heatmaps[CENTRE_CHANNEL]
-    height, width = centre_map.shape
-    placed = [*strong_centres, *other_candidates]
-    apart_from = [config.confirmed_separation] * len(strong_centres) + [config.min_centre_separation] * len(
-        other_candidates)
-    proposals: list[tuple[float, np.ndarray]] = []
-    for head, members in enumerate(heads):
-        if held[head] or (~taken_by[:, members].any(axis=0)).sum() < config.confirming_head_keypoints:
-            continue
-        centre = centres[members].mean(axis=0)
-        row, column = np.round(centre[::-1]).astype(int)
-        if not (0 <= row < height and 0 <= column < width):  # a head at the map's foot: its centre is off it
-            continue
-        score = float(centre_map[row, column])
-        separation = heights_px_at(centre[None])[0] / stride
-        if score >= config.centre_threshold and all(
-                np.hypot(*(centre - other)) >= reach * separation for other, reach in zip(placed, apart_from,
-                                                                                          strict=True)):
-            proposals.append((score, centre))
-            placed.append(centre)
-            apart_from.append(config.min_centre_separation)
-    return proposals
+    return keypoints
 
 
 def _search_windows(expected: np.ndarray, reach: np.ndarray,
@@ -672,26 +541,18 @@ def _update_window_sums(sums: np.ndarray, grid: np.ndarray, radius: int, row: in
                                 columns.start - read_columns.start:columns.stop - read_columns.start]
 
 
-def _separated(centres_cells: np.ndarray, heights_cells: np.ndarray, separation: float,
-               confirmed_separation: float) -> tuple[list[int], list[int]]:
+def _separated(centres_cells: np.ndarray, heights_cells: np.ndarray, separation: float) -> list[int]:
     """Indices of the peaks (strongest first) that lie at least ``separation`` expected heights from every
-    stronger peak kept: two centres closer than that are one person's blurred peak, not two people. And of the
-    others that lie at least ``confirmed_separation`` from every stronger peak kept and ``separation`` from every
-    stronger one of themselves: a person if their own head confirms it (step 2c); none where the two separations
-    are equal."""
+    stronger peak kept: two centres closer than that are one person's blurred peak, not two people."""
     # apart[i, j]: peak i is far enough from peak j, in j's expected heights (all pairs at once; the greedy pass
     # over them is then plain Python on a handful of peaks)
-    distances = np.hypot(*(centres_cells[:, None] - centres_cells[None]).transpose(2, 0, 1))
-    apart = (distances >= separation * heights_cells[None]).tolist()
-    not_too_close = (distances >= confirmed_separation * heights_cells[None]).tolist()
+    apart = (np.hypot(*(centres_cells[:, None] - centres_cells[None]).transpose(2, 0, 1))
+             >= separation * heights_cells[None]).tolist()
     kept: list[int] = []
-    close: list[int] = []
-    for index, (row, row_close) in enumerate(zip(apart, not_too_close, strict=True)):
+    for index, row in enumerate(apart):
         if all(row[other] for other in kept):
             kept.append(index)
-        elif all(row_close[other] for other in kept) and all(row[other] for other in close):
-            close.append(index)
-    return kept, close
+    return kept
 
 
 #: Head keypoints (nose, eyes, ears) and ankles: the top and the bottom of a person's keypoints.
