@@ -342,10 +342,10 @@ def test_votes_split_one_blob_into_its_two_people_each_boxed_by_its_own_pixels()
             x0 + width, abs=STRIDE + 3.0)
 
 
-def test_a_shorter_vote_reach_keeps_the_votes_of_a_person_close_behind_another_apart() -> None:
-    """Two people 0.12 heights apart, one behind the other, the centre map one peak on the front one (what a network
-    draws at 48 px): the pixels of the one behind vote for their own centre, inside the default vote reach (the
-    centre separation, 0.15) of the front one's peak, which claims them. A shorter reach (``vote_separation``)
+def test_a_shorter_vote_reach_keeps_the_votes_of_a_person_close_to_another_apart() -> None:
+    """Two people 0.12 heights apart, the second covering most of the first, the centre map one peak on the first
+    (what a network draws at 48 px): the pixels of the second vote for their own centre, inside the default vote
+    reach (the centre separation, 0.15) of that peak, which claims them. A shorter reach (``vote_separation``)
     leaves them free, and they are the second person."""
     front, behind = _person((110.3, 95.7), 100.0, 1), _person((122.3, 95.7), 100.0, 2)
     heatmaps = encode([front, behind], _instances([front, behind]), CodecConfig(stride=STRIDE, centre_offsets=True))
