@@ -4,7 +4,9 @@
    sub-cell precision by a parabola through each peak and its neighbours. A peak closer than
    ``min_centre_separation`` expected heights to a stronger one is that person's blurred peak, not another.
    Asked for weak people (``weak_above``), the peaks down to that value are decoded too, flagged ``weak``, for a
-   tracker to continue tracks with; they take no mask cells or keypoint peaks from the others.
+   tracker to continue tracks with; they take no mask cells or keypoint peaks from the others. From a network
+   with a fine centre map (:data:`~vc.deploy.heatmaps.FINE_CENTRE_CHANNELS`), the peaks are that map's, at
+   twice the resolution, and their positions are then brought to cells.
    1b. From a network with centre offsets, each mask cell above ``mask_threshold`` votes for the centre of the
    person it belongs to (cell + offset x expected height). Votes that no centre of step 1 claims (within
    ``vote_separation``) and that gather at least ``vote_support`` of a person's pixels around one point are
@@ -38,12 +40,17 @@ from vc.deploy.heatmaps import (
     ANATOMICAL_CHANNELS,
     CENTRE_CHANNEL,
     CENTRE_OFFSET_CHANNELS,
+    FINE_CENTRE_CHANNELS,
+    FINE_CHANNELS,
     HANDEDNESS_CHANNELS,
     KEYPOINT_CHANNELS,
     LAYOUTS,
     MASK_CHANNEL,
     OFFSET_CHANNELS,
+    cells_to_fine,
     cells_to_input,
+    fine_centre_map,
+    fine_to_cells,
     swap_pairs,
 )
 from vc.keypoints import COCO_KEYPOINTS
@@ -249,7 +256,21 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
         return expected_height_px[rows, columns].astype(float)
 
     floor = config.centre_threshold if weak_above is None else min(weak_above, config.centre_threshold)
-    peaks = find_peaks(heatmaps[CENTRE_CHANNEL], floor, config.max_people)
+    # The centre map the peaks are found on: the fine one where the network draws it, its positions then brought to
+    # cells like every other map's.
+    if channels == FINE_CHANNELS:
+        centre_map = fine_centre_map(heatmaps[FINE_CENTRE_CHANNELS])
+        peaks = [(score, fine_to_cells(position)) for score, position in
+                 find_peaks(centre_map, floor, config.max_people)]
+    else:
+        centre_map = heatmaps[CENTRE_CHANNEL]
+        peaks = find_peaks(centre_map, floor, config.max_people)
+
+    def centre_value_at(centre_cells: np.ndarray) -> float:
+        xy = cells_to_fine(centre_cells) if channels == FINE_CHANNELS else centre_cells
+        column, row = np.clip(np.round(xy).astype(int), 0, [centre_map.shape[1] - 1, centre_map.shape[0] - 1])
+        return float(centre_map[row, column])
+
     centres_cells = np.array([centre for _, centre in peaks]).reshape(-1, 2)
     keep = _separated(centres_cells, heights_px_at(centres_cells) / stride, config.min_centre_separation)
     peaks, centres_cells = [peaks[i] for i in keep], centres_cells[keep]
@@ -258,7 +279,7 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     mask_rows, mask_columns = np.nonzero(mask > config.mask_threshold)
     # Where each foreground cell says its person's centre is (step 1b); without offsets, the cell itself.
     voted = np.column_stack([mask_columns, mask_rows]).astype(np.float64)
-    if channels == OFFSET_CHANNELS and len(voted):
+    if channels >= OFFSET_CHANNELS and len(voted):
         offsets = heatmaps[CENTRE_OFFSET_CHANNELS][:, mask_rows, mask_columns].T  # (M, 2) in person heights
         voted += offsets * (heights_px_at(voted) / stride)[:, None]
         moved, added = _vote_centres(voted, mask[mask_rows, mask_columns], heights_px_at(voted) / stride,
@@ -266,9 +287,9 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
         for index, centre in moved.items():
             peaks[index], centres_cells[index] = (peaks[index][0], centre), centre
         for centre in added:
-            row, column = np.clip(np.round(centre[::-1]).astype(int), 0, [height - 1, width - 1])
-            if heatmaps[CENTRE_CHANNEL, row, column] >= floor and len(peaks) < config.max_people:
-                peaks.append((float(heatmaps[CENTRE_CHANNEL, row, column]), centre))
+            score = centre_value_at(centre)
+            if score >= floor and len(peaks) < config.max_people:
+                peaks.append((score, centre))
                 centres_cells = np.vstack([centres_cells, centre])
     if not peaks:
         return []

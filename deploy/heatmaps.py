@@ -43,9 +43,17 @@ ANATOMICAL_CHANNELS = MASK_CHANNEL + 1
 #: Cheng et al., CVPR 2020), and a person's mask is the pixels that vote for them.
 CENTRE_OFFSET_CHANNELS = slice(HEATMAP_CHANNELS, HEATMAP_CHANNELS + 2)
 OFFSET_CHANNELS = CENTRE_OFFSET_CHANNELS.stop
+#: Four maps after the offsets, in networks trained to emit them: the centre map at twice the heat maps' resolution
+#: (:data:`FINE_FACTOR`), stored space-to-depth — map ``2 dy + dx`` holds the fine cells (2 r + dy, 2 c + dx) at cell
+#: (r, c) (:func:`fine_centre_map`). Two people one behind another stand 1.5-2 cells apart at a 48 px person's
+#: stride-4 cells, where one centre peak can only be found for both (benchmarks/results/groups_pets09.md); on the
+#: fine grid they are 3-4 cells apart. Four channels of the last 1x1 convolution cost next to nothing at run time.
+FINE_FACTOR = 2
+FINE_CENTRE_CHANNELS = slice(OFFSET_CHANNELS, OFFSET_CHANNELS + FINE_FACTOR**2)
+FINE_CHANNELS = FINE_CENTRE_CHANNELS.stop
 #: Every layout a network emits, by its channel count: anatomical pairs (before handedness), image-ordered pairs
-#: with handedness, and those with the centre offsets.
-LAYOUTS = (ANATOMICAL_CHANNELS, HEATMAP_CHANNELS, OFFSET_CHANNELS)
+#: with handedness, those with the centre offsets, and those with a fine centre map too.
+LAYOUTS = (ANATOMICAL_CHANNELS, HEATMAP_CHANNELS, OFFSET_CHANNELS, FINE_CHANNELS)
 
 
 def swap_pairs(keypoints: np.ndarray, swapped) -> np.ndarray:
@@ -69,8 +77,39 @@ def channel_names(channels: int = HEATMAP_CHANNELS) -> tuple[str, ...]:
                                                                   "_image_right" if name.startswith("right_") else "")
              for name in COCO_KEYPOINTS]
     handedness = [COCO_KEYPOINTS[left].removeprefix("left_") + "_handedness" for left, _ in PAIRS]
-    offsets = ("centre_offset_x", "centre_offset_y") if channels == OFFSET_CHANNELS else ()
-    return ("centre", *slots, "mask", *handedness, *offsets)
+    offsets = ("centre_offset_x", "centre_offset_y") if channels >= OFFSET_CHANNELS else ()
+    fine = tuple(f"fine_centre_{dy}{dx}" for dy in range(FINE_FACTOR) for dx in range(FINE_FACTOR)
+                 ) if channels == FINE_CHANNELS else ()
+    return ("centre", *slots, "mask", *handedness, *offsets, *fine)
+
+
+def fine_centre_map(maps: np.ndarray) -> np.ndarray:
+    """The fine centre map (..., FINE_FACTOR h, FINE_FACTOR w) from its space-to-depth channels (..., 4, h, w)
+    (:data:`FINE_CENTRE_CHANNELS` of a network's output)."""
+    *batch, _, height, width = maps.shape
+    blocks = maps.reshape(*batch, FINE_FACTOR, FINE_FACTOR, height, width)  # (..., dy, dx, r, c)
+    order = (*range(len(batch)), len(batch) + 2, len(batch), len(batch) + 3, len(batch) + 1)  # (..., r, dy, c, dx)
+    return blocks.transpose(order).reshape(*batch, FINE_FACTOR * height, FINE_FACTOR * width)
+
+
+def fine_centre_channels(fine: np.ndarray) -> np.ndarray:
+    """The inverse of :func:`fine_centre_map`: (..., FINE_FACTOR h, FINE_FACTOR w) -> (..., 4, h, w)."""
+    *batch, fine_height, fine_width = fine.shape
+    height, width = fine_height // FINE_FACTOR, fine_width // FINE_FACTOR
+    blocks = fine.reshape(*batch, height, FINE_FACTOR, width, FINE_FACTOR)  # (..., r, dy, c, dx)
+    order = (*range(len(batch)), len(batch) + 1, len(batch) + 3, len(batch), len(batch) + 2)  # (..., dy, dx, r, c)
+    return blocks.transpose(order).reshape(*batch, FINE_FACTOR**2, height, width)
+
+
+def fine_to_cells(xy: np.ndarray) -> np.ndarray:
+    """Fine centre-map coordinates -> heat-map cell coordinates (both with cell centres at integers: a fine cell of
+    stride s / 2 and a cell of stride s, :func:`input_to_cells`)."""
+    return (np.asarray(xy, np.float64) + 0.5) / FINE_FACTOR - 0.5
+
+
+def cells_to_fine(xy: np.ndarray) -> np.ndarray:
+    """Heat-map cell coordinates -> fine centre-map coordinates (inverse of :func:`fine_to_cells`)."""
+    return (np.asarray(xy, np.float64) + 0.5) * FINE_FACTOR - 0.5
 
 
 def input_to_cells(xy: np.ndarray, stride: int) -> np.ndarray:

@@ -13,6 +13,8 @@ network, as mmpose keeps its codecs).
 * Centre offsets (with ``centre_offsets``): over each cell that people cover, the (x, y) from the cell to the
   centre of the person covering most of it, in that person's heights; 0 elsewhere. The loss weighs them by the
   mask, which is 0 where they mean nothing (:mod:`vc.model.loss`).
+* Fine centre (with ``fine_centre``, on top of the offsets): the centre Gaussians again, same sigma in input pixels,
+  on a grid of twice the resolution, stored space-to-depth (:data:`vc.deploy.heatmaps.FINE_CENTRE_CHANNELS`).
 
 Several people combine by maximum (Gaussians) so that neighbours do not merge into one peak. Decoding lives in
 :mod:`vc.deploy.decode` and uses the same cell geometry (:mod:`vc.deploy.heatmaps`).
@@ -28,12 +30,16 @@ from vc.calibration.camera import Camera
 from vc.deploy.heatmaps import (
     CENTRE_CHANNEL,
     CENTRE_OFFSET_CHANNELS,
+    FINE_CENTRE_CHANNELS,
+    FINE_CHANNELS,
+    FINE_FACTOR,
     HANDEDNESS_CHANNELS,
     HEATMAP_CHANNELS,
     KEYPOINT_CHANNELS,
     MASK_CHANNEL,
     OFFSET_CHANNELS,
     cells_to_input,
+    fine_centre_channels,
     input_to_cells,
     swap_pairs,
 )
@@ -53,11 +59,17 @@ class CodecConfig:
     min_sigma_cells: float = 0.75  # no Gaussian narrower than this many cells (tiny people stay learnable)
     # Also draw the centre-offset maps (vc.deploy.heatmaps.CENTRE_OFFSET_CHANNELS); the network then emits them.
     centre_offsets: bool = False
+    # Also draw the centre map at twice the resolution (vc.deploy.heatmaps.FINE_CENTRE_CHANNELS; with the offsets).
+    fine_centre: bool = False
+
+    def __post_init__(self) -> None:
+        if self.fine_centre and not self.centre_offsets:
+            raise ValueError("the fine centre map comes after the centre offsets in the layout: set centre_offsets")
 
     @property
     def channels(self) -> int:
         """The number of maps :func:`encode` draws: the network's output layout."""
-        return OFFSET_CHANNELS if self.centre_offsets else HEATMAP_CHANNELS
+        return FINE_CHANNELS if self.fine_centre else OFFSET_CHANNELS if self.centre_offsets else HEATMAP_CHANNELS
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -98,12 +110,17 @@ def encode(annotations: list[dict], instances: np.ndarray, config: CodecConfig =
         raise ValueError(f"input {width}x{height} is not a multiple of the output stride {stride}")
     cells = (height // stride, width // stride)
     heatmaps = np.zeros((config.channels, *cells), np.float32)
+    fine = np.zeros((1, FINE_FACTOR * cells[0], FINE_FACTOR * cells[1]), np.float32) if config.fine_centre else None
     for annotation in annotations:
         size_cells = person_height_px(annotation) / stride
         if annotation.get("center") is not None:
             sigma = max(config.centre_sigma * size_cells, config.min_sigma_cells)
             _draw_gaussians(heatmaps, np.array([CENTRE_CHANNEL]), input_to_cells([annotation["center"]], stride),
                             sigma)
+            if fine is not None:
+                fine_stride = stride / FINE_FACTOR
+                _draw_gaussians(fine, np.array([0]), input_to_cells([annotation["center"]], fine_stride),
+                                max(config.centre_sigma * size_cells * FINE_FACTOR, config.min_sigma_cells))
         sigma = max(config.keypoint_sigma * size_cells, config.min_sigma_cells)
         keypoints = np.asarray(annotation["keypoints"], np.float64).reshape(-1, 3)
         if annotation.get("left_is_image_left") is not None:
@@ -126,6 +143,8 @@ def encode(annotations: list[dict], instances: np.ndarray, config: CodecConfig =
         heatmaps[HANDEDNESS_CHANNELS] += coverages[id(annotation)][None] * sign[:, None, None]
     if config.centre_offsets:
         _draw_centre_offsets(heatmaps[CENTRE_OFFSET_CHANNELS], annotations, coverages, stride)
+    if fine is not None:
+        heatmaps[FINE_CENTRE_CHANNELS] = fine_centre_channels(fine[0])
     return heatmaps
 
 

@@ -2,7 +2,9 @@
 delta * mean MSE(handedness) for the maps that tell which member of each keypoint pair is the left one
 (:mod:`vc.deploy.heatmaps`), and, for networks that emit them, epsilon times the centre offsets' L1 error weighed
 by the target mask (an offset means something only on a person's pixels; L1, as in Panoptic-DeepLab, so that the
-cells on the border between two people, whose owner is a coin toss, do not dominate).
+cells on the border between two people, whose owner is a coin toss, do not dominate), and for networks with a fine
+centre map, alpha times its MSE too (its Gaussians are as wide in pixels as the coarse map's, so the two errors
+are of one size).
 
 Each term is a mean squared error over its heat-map pixels (the pose and handedness terms the mean over their
 maps; the offsets' term their mask-weighed absolute error, averaged likewise).
@@ -20,10 +22,11 @@ from torch import Tensor
 from vc.deploy.heatmaps import (
     CENTRE_CHANNEL,
     CENTRE_OFFSET_CHANNELS,
+    FINE_CENTRE_CHANNELS,
+    FINE_CHANNELS,
     HANDEDNESS_CHANNELS,
     KEYPOINT_CHANNELS,
     MASK_CHANNEL,
-    OFFSET_CHANNELS,
 )
 
 
@@ -52,7 +55,8 @@ class LossWeights:
 
 def heatmap_terms(prediction: Tensor, targets: Tensor) -> dict[str, Tensor]:
     """The terms of one prediction (B, C, h, w) against its targets (same shape), unweighted: C one of the
-    layouts of :mod:`vc.deploy.heatmaps`, the ``centre_offsets`` term only where it has the offset maps."""
+    layouts of :mod:`vc.deploy.heatmaps`, the ``centre_offsets`` term only where it has the offset maps and the
+    ``fine_centre`` term only where it has the fine centre map."""
     if prediction.shape != targets.shape:
         raise ValueError(f"prediction {tuple(prediction.shape)} and targets {tuple(targets.shape)} differ in shape")
     squared = (prediction[:, :CENTRE_OFFSET_CHANNELS.start] - targets[:, :CENTRE_OFFSET_CHANNELS.start]).square()
@@ -60,9 +64,11 @@ def heatmap_terms(prediction: Tensor, targets: Tensor) -> dict[str, Tensor]:
              "pose": squared[:, KEYPOINT_CHANNELS].mean(),  # = mean over keypoints of each map's MSE
              "segmentation": squared[:, MASK_CHANNEL].mean(),
              "handedness": squared[:, HANDEDNESS_CHANNELS].mean()}
-    if prediction.shape[1] == OFFSET_CHANNELS:
+    if prediction.shape[1] >= CENTRE_OFFSET_CHANNELS.stop:
         error = (prediction[:, CENTRE_OFFSET_CHANNELS] - targets[:, CENTRE_OFFSET_CHANNELS]).abs()
         terms["centre_offsets"] = (error * targets[:, MASK_CHANNEL, None]).mean()
+    if prediction.shape[1] == FINE_CHANNELS:
+        terms["fine_centre"] = (prediction[:, FINE_CENTRE_CHANNELS] - targets[:, FINE_CENTRE_CHANNELS]).square().mean()
     return terms
 
 
@@ -76,7 +82,8 @@ def scene_pose_loss(outputs: dict[str, Tensor | list[Tensor]], targets: Tensor,
     final_terms: dict[str, Tensor] = {}
     for stage, prediction in enumerate([*outputs["beliefs"], outputs["heatmaps"]]):
         terms = heatmap_terms(prediction, targets)
-        total = total + (weights.detection * terms["detection"] + weights.pose * terms["pose"]
+        total = total + (weights.detection * (terms["detection"] + terms.get("fine_centre", 0.0))
+                         + weights.pose * terms["pose"]
                          + weights.segmentation * terms["segmentation"] + weights.handedness * terms["handedness"]
                          + weights.centre_offsets * terms.get("centre_offsets", 0.0))
         if stage == len(outputs["beliefs"]):

@@ -30,7 +30,7 @@ from tqdm import tqdm
 from vc.calibration.camera import camera_from_dict
 from vc.cores import cpu_facts, usable_cores
 from vc.deploy.decode import DecodeConfig
-from vc.deploy.heatmaps import OFFSET_CHANNELS
+from vc.deploy.heatmaps import FINE_CHANNELS, HEATMAP_CHANNELS, OFFSET_CHANNELS
 from vc.errors import InputError, StageError
 from vc.evaluation.plots import plot_precision_recall, plot_training_curve
 from vc.io import atomic_path
@@ -87,15 +87,16 @@ class TrainConfig:
         stride = self.network.stem_stride
         object.__setattr__(self, "codec", replace(self.codec, stride=stride))
         object.__setattr__(self, "decode", replace(self.decode, stride=stride))
-        # Asked to draw the centre offsets, the codec decides the network's maps: it emits (and, supervised,
-        # believes) them too. A stored network of an older layout is left as it was written.
-        if self.codec.centre_offsets and self.network.heatmap_channels != OFFSET_CHANNELS:
-            believed = OFFSET_CHANNELS if self.network.intermediate_supervision else self.network.belief_channels
-            object.__setattr__(self, "network", replace(self.network, heatmap_channels=OFFSET_CHANNELS,
+        # Asked to draw the centre offsets (and the fine centre map), the codec decides the network's maps: it emits
+        # (and, supervised, believes) them too. A stored network of an older layout is left as it was written.
+        drawn = self.codec.channels
+        if drawn != HEATMAP_CHANNELS and self.network.heatmap_channels != drawn:
+            believed = drawn if self.network.intermediate_supervision else self.network.belief_channels
+            object.__setattr__(self, "network", replace(self.network, heatmap_channels=drawn,
                                                         belief_channels=believed))
-        elif not self.codec.centre_offsets and self.network.heatmap_channels == OFFSET_CHANNELS:
-            raise ValueError("the network emits centre offsets (heatmap_channels "
-                             f"{OFFSET_CHANNELS}) that the codec does not draw: set codec.centre_offsets")
+        elif drawn == HEATMAP_CHANNELS and self.network.heatmap_channels in (OFFSET_CHANNELS, FINE_CHANNELS):
+            raise ValueError(f"the network emits centre offsets (heatmap_channels {self.network.heatmap_channels}) "
+                             "that the codec does not draw: set codec.centre_offsets")
         if self.steps < 1 or self.batch_size < 1:
             raise ValueError("steps and batch_size must be at least 1")
 

@@ -74,6 +74,9 @@ class TrainSettings(_Section):
     centre_offsets: bool = Field(False, description="also learn, at each person pixel, where that person's centre "
                                                     "is: the decoder splits people in one blob by their pixels' votes "
                                                     "(on in the standard and full budgets)")
+    fine_centre: bool = Field(False, description="also learn the centre map at twice the resolution (with "
+                                                 "centre_offsets): people one behind another, 1.5-2 heat-map cells "
+                                                 "apart, keep two peaks there")
     centre_offset_weight: float = Field(LossWeights.centre_offsets, gt=0.0,
                                         description="the centre offsets' share of the loss (with centre_offsets): "
                                                     "lower leaves more of the network to the keypoint maps")
@@ -84,6 +87,13 @@ class TrainSettings(_Section):
         if weight != LossWeights.centre_offsets and not info.data.get("centre_offsets", False):
             raise ValueError("weighs the centre offsets, which this training does not learn (set centre_offsets)")
         return weight
+
+    @field_validator("fine_centre")
+    @classmethod
+    def _fine_centre_needs_offsets(cls, fine: bool, info: ValidationInfo) -> bool:
+        if fine and not info.data.get("centre_offsets", False):
+            raise ValueError("the fine centre map comes with the centre offsets (set centre_offsets)")
+        return fine
 
     def train_config(self) -> TrainConfig:
         """The full training config; a width or SB count the network cannot take is bad input."""
@@ -97,7 +107,8 @@ class TrainSettings(_Section):
         channels_last = bf16 if self.channels_last == "auto" else self.channels_last
         centre = {} if self.centre_sigma is None else centre_map_settings(self.centre_sigma)
         if self.centre_offsets:
-            centre["codec"] = replace(centre.get("codec", CodecConfig()), centre_offsets=True)
+            centre["codec"] = replace(centre.get("codec", CodecConfig()), centre_offsets=True,
+                                      fine_centre=self.fine_centre)
             centre["loss"] = replace(centre.get("loss", LossWeights()), centre_offsets=self.centre_offset_weight)
         return TrainConfig(network=network, steps=self.steps, batch_size=self.batch_size, seed=self.seed,
                            bf16_autocast=bf16, channels_last=channels_last, **centre)

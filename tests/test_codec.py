@@ -27,13 +27,18 @@ from vc.deploy.heatmaps import (
     ANATOMICAL_CHANNELS,
     CENTRE_CHANNEL,
     CENTRE_OFFSET_CHANNELS,
+    FINE_CENTRE_CHANNELS,
+    FINE_CHANNELS,
     HANDEDNESS_CHANNELS,
     HEATMAP_CHANNELS,
     KEYPOINT_CHANNELS,
     MASK_CHANNEL,
     OFFSET_CHANNELS,
     PAIRS,
+    cells_to_fine,
     cells_to_input,
+    fine_centre_channels,
+    fine_centre_map,
     input_to_cells,
     swap_pairs,
 )
@@ -357,6 +362,41 @@ def test_a_shorter_vote_reach_keeps_the_votes_of_a_person_close_to_another_apart
     found = decode(heatmaps, DecodeConfig(stride=STRIDE, vote_separation=0.08), heights)
     assert len(found) == 2
     np.testing.assert_allclose(sorted(person.centre[0] for person in found), [110.3, 122.3], atol=1.5)
+
+
+def test_the_fine_centre_map_holds_each_centre_at_twice_the_resolution() -> None:
+    people = [_person((110.3, 95.7), 48.0, 1), _person((171.0, 60.2), 80.0, 2)]
+    heatmaps = encode(people, _instances(people), CodecConfig(stride=STRIDE, centre_offsets=True, fine_centre=True))
+    assert heatmaps.shape == (FINE_CHANNELS, HEIGHT // STRIDE, WIDTH // STRIDE)
+    coarse_only = encode(people, _instances(people), CodecConfig(stride=STRIDE, centre_offsets=True))
+    np.testing.assert_array_equal(heatmaps[:OFFSET_CHANNELS], coarse_only)  # the other maps as before
+    fine = fine_centre_map(heatmaps[FINE_CENTRE_CHANNELS])
+    assert fine.shape == (2 * HEIGHT // STRIDE, 2 * WIDTH // STRIDE)
+    np.testing.assert_array_equal(fine_centre_channels(fine), heatmaps[FINE_CENTRE_CHANNELS])
+    peaks = find_peaks(fine, 0.3)
+    assert len(peaks) == 2
+    for person in people:  # each peak where the person's centre is, in fine cells (half a cell's pixels)
+        expected = cells_to_fine(input_to_cells(person["center"], STRIDE))
+        assert min(np.linalg.norm(position - expected) for _, position in peaks) < 0.25
+
+
+def test_the_fine_centre_map_keeps_two_peaks_where_the_coarse_one_draws_one() -> None:
+    """Two 48 px people 0.125 heights (1.5 cells) apart: the coarse centre map as a network draws it there, one
+    blurred peak between them; the fine map two. The decoder finds its peaks on the fine map and places them in
+    cells like the coarse ones: two people where they stand, one from the coarse map alone."""
+    front, behind = _person((110.3, 95.7), 48.0, 1), _person((116.3, 95.7), 48.0, 2)
+    heatmaps = encode([front, behind], _instances([front, behind]),
+                      CodecConfig(stride=STRIDE, centre_offsets=True, fine_centre=True))
+    rows, columns = np.indices(heatmaps.shape[1:])
+    x, y = input_to_cells([113.3, 95.7], STRIDE)
+    heatmaps[CENTRE_CHANNEL] = np.exp(-((columns - x) ** 2 + (rows - y) ** 2) / (2 * 1.5**2))
+    heights = np.full(heatmaps.shape[1:], 48.0)
+    config = DecodeConfig(stride=STRIDE, min_centre_separation=0.1, vote_separation=0.1)
+    assert len(decode(heatmaps[:OFFSET_CHANNELS], config, heights)) == 1
+    found = decode(heatmaps, config, heights)
+    assert len(found) == 2
+    np.testing.assert_allclose(sorted(person.centre[0] for person in found), [110.3, 116.3], atol=1.0)
+    np.testing.assert_allclose([person.centre[1] for person in found], 95.7, atol=1.0)
 
 
 def test_a_lone_person_s_votes_add_nobody_and_scattered_votes_are_not_a_person() -> None:

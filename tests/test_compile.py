@@ -106,6 +106,17 @@ def test_an_offsets_weight_without_the_offsets_is_one_line_naming_the_field(tmp_
     assert not (tmp_path / "run").exists()
 
 
+def test_a_fine_centre_map_without_the_offsets_is_one_line_naming_the_field(tmp_path, capsys):
+    from vc.stages.config import TrainSettings
+    assert TrainSettings(centre_offsets=True, fine_centre=True).train_config().codec.fine_centre
+    renders = tmp_path / "renders"
+    renders.mkdir()
+    assert train_cli.main([str(renders), "-o", str(tmp_path / "run"), "--fine-centre"]) == 2
+    error = capsys.readouterr().err.strip()
+    assert error.count("\n") == 0 and "fine_centre" in error and "centre_offsets" in error
+    assert not (tmp_path / "run").exists()
+
+
 def test_a_bad_config_file_is_one_line_naming_the_field(tmp_path, capsys):
     bad = tmp_path / "bad.yaml"
     bad.write_text(yaml.safe_dump({**TOY, "train": {"steps": -1}}))

@@ -15,7 +15,14 @@ from dataset_factory import INPUT_SIZE, write_dataset
 
 import vc.model.train as vc_model_train
 from vc.cli.train import main as vc_train
-from vc.deploy.heatmaps import CENTRE_OFFSET_CHANNELS, HEATMAP_CHANNELS, MASK_CHANNEL, OFFSET_CHANNELS
+from vc.deploy.heatmaps import (
+    CENTRE_OFFSET_CHANNELS,
+    FINE_CENTRE_CHANNELS,
+    FINE_CHANNELS,
+    HEATMAP_CHANNELS,
+    MASK_CHANNEL,
+    OFFSET_CHANNELS,
+)
 from vc.errors import InputError
 from vc.model.codec import CodecConfig, encode
 from vc.model.config import DEFAULT_ARCH, network_config
@@ -83,6 +90,23 @@ def test_centre_offsets_are_learned_on_people_only_and_the_codec_sets_the_networ
     assert TrainConfig.from_dict(with_offsets.to_dict()) == with_offsets
     with pytest.raises(ValueError, match="centre offsets"):
         TrainConfig(network=with_offsets.network)
+
+
+def test_the_fine_centre_map_is_learned_as_the_centre_map_and_the_codec_sets_the_network_s_maps():
+    prediction, targets = torch.rand(2, FINE_CHANNELS, 8, 8), torch.rand(2, FINE_CHANNELS, 8, 8)
+    terms = heatmap_terms(prediction, targets)
+    assert float(terms["fine_centre"]) == pytest.approx(
+        float((prediction[:, FINE_CENTRE_CHANNELS] - targets[:, FINE_CENTRE_CHANNELS]).square().mean()))
+    assert "fine_centre" not in heatmap_terms(prediction[:, :OFFSET_CHANNELS], targets[:, :OFFSET_CHANNELS])
+    weights = LossWeights(detection=2.0)
+    loss, _ = scene_pose_loss({"beliefs": [], "heatmaps": prediction}, targets, weights)
+    without, _ = scene_pose_loss({"beliefs": [], "heatmaps": prediction}, targets, replace(weights, detection=0.0))
+    assert float(loss - without) == pytest.approx(2.0 * float(terms["detection"] + terms["fine_centre"]), rel=1e-5)
+    fine = _config(codec=CodecConfig(centre_offsets=True, fine_centre=True))
+    assert fine.network.heatmap_channels == FINE_CHANNELS
+    assert TrainConfig.from_dict(fine.to_dict()) == fine
+    with pytest.raises(ValueError, match="centre offsets"):
+        CodecConfig(fine_centre=True)
 
 
 def test_one_batch_overfits_tenfold():

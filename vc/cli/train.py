@@ -47,6 +47,8 @@ def _parser() -> argparse.ArgumentParser:
                         help=f"{TrainSettings.model_fields['workers'].description} (default {defaults.workers})")
     parser.add_argument("--centre-offsets", action="store_true",
                         help=TrainSettings.model_fields["centre_offsets"].description)
+    parser.add_argument("--fine-centre", action="store_true",
+                        help=TrainSettings.model_fields["fine_centre"].description)
     parser.add_argument("--offset-weight", type=positive_float, default=defaults.centre_offset_weight,
                         metavar="W", help=TrainSettings.model_fields["centre_offset_weight"].description
                         + f" (default {defaults.centre_offset_weight:g})")
@@ -84,7 +86,8 @@ def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     settings = train_settings(arch=args.arch, width=args.width, sb_units=args.sb_units, steps=args.steps,
                               batch_size=args.batch_size, seed=args.seed, workers=args.workers,
-                              centre_offsets=args.centre_offsets, centre_offset_weight=args.offset_weight)
+                              centre_offsets=args.centre_offsets, fine_centre=args.fine_centre,
+                              centre_offset_weight=args.offset_weight)
     job = prepare_training(args.dataset, settings, args.region)
     report_job(job)
     report_results(job.run(args.output, show_progress=not args.quiet), args.output)
