@@ -5,8 +5,8 @@
    ``min_centre_separation`` expected heights to a stronger one is that person's blurred peak, not another.
    Asked for weak people (``weak_above``), the peaks down to that value are decoded too, flagged ``weak``, for a
    tracker to continue tracks with; they take no mask cells or keypoint peaks from the others. From a network
-   with a fine centre map (:data:`~vc.deploy.heatmaps.FINE_CENTRE_CHANNELS`), the peaks are that map's, at
-   twice the resolution, and their positions are then brought to cells.
+   with a fine centre map (:data:`~vc.deploy.heatmaps.FINE_CENTRE_CHANNELS`) and ``fine_centre_peaks``, the
+   peaks are that map's, at twice the resolution, and their positions are then brought to cells.
    1b. From a network with centre offsets, each mask cell above ``mask_threshold`` votes for the centre of the
    person it belongs to (cell + offset x expected height). Votes that no centre of step 1 claims (within
    ``vote_separation``) and that gather at least ``vote_support`` of a person's pixels around one point are
@@ -126,6 +126,9 @@ class DecodeConfig:
     # as often one person's blur (benchmarks/results/groups_pets09.md), while votes 0.12 heights from a peak
     # gather where a person one behind another stands (benchmarks/results/vote_reach_pets09.md).
     vote_separation: float | None = None
+    # Step 1 from a network with a fine centre map: its peaks (True), or the coarse map's, the fine map then having
+    # served only as a training target (benchmarks/results/fine_centre_pets09.md measures both).
+    fine_centre_peaks: bool = True
 
 
 
@@ -258,7 +261,8 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     floor = config.centre_threshold if weak_above is None else min(weak_above, config.centre_threshold)
     # The centre map the peaks are found on: the fine one where the network draws it, its positions then brought to
     # cells like every other map's.
-    if channels == FINE_CHANNELS:
+    fine = channels == FINE_CHANNELS and config.fine_centre_peaks
+    if fine:
         centre_map = fine_centre_map(heatmaps[FINE_CENTRE_CHANNELS])
         peaks = [(score, fine_to_cells(position)) for score, position in
                  find_peaks(centre_map, floor, config.max_people)]
@@ -267,7 +271,7 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
         peaks = find_peaks(centre_map, floor, config.max_people)
 
     def centre_value_at(centre_cells: np.ndarray) -> float:
-        xy = cells_to_fine(centre_cells) if channels == FINE_CHANNELS else centre_cells
+        xy = cells_to_fine(centre_cells) if fine else centre_cells
         column, row = np.clip(np.round(xy).astype(int), 0, [centre_map.shape[1] - 1, centre_map.shape[0] - 1])
         return float(centre_map[row, column])
 

@@ -397,6 +397,9 @@ def test_the_fine_centre_map_keeps_two_peaks_where_the_coarse_one_draws_one() ->
     assert len(found) == 2
     np.testing.assert_allclose(sorted(person.centre[0] for person in found), [110.3, 116.3], atol=1.0)
     np.testing.assert_allclose([person.centre[1] for person in found], 95.7, atol=1.0)
+    coarse = decode(heatmaps, replace(config, fine_centre_peaks=False), heights)  # the fine map ignored
+    (without_fine,) = decode(heatmaps[:OFFSET_CHANNELS], config, heights)
+    assert len(coarse) == 1 and coarse[0].box.tolist() == without_fine.box.tolist()
 
 
 def test_a_lone_person_s_votes_add_nobody_and_scattered_votes_are_not_a_person() -> None:
