@@ -38,6 +38,7 @@ from vc.deploy.heatmaps import (
     KEYPOINT_CHANNELS,
     MASK_CHANNEL,
     OFFSET_CHANNELS,
+    cells_to_fine,
     cells_to_input,
     fine_centre_channels,
     input_to_cells,
@@ -118,8 +119,7 @@ def encode(annotations: list[dict], instances: np.ndarray, config: CodecConfig =
             _draw_gaussians(heatmaps, np.array([CENTRE_CHANNEL]), input_to_cells([annotation["center"]], stride),
                             sigma)
             if fine is not None:
-                fine_stride = stride / FINE_FACTOR
-                _draw_gaussians(fine, np.array([0]), input_to_cells([annotation["center"]], fine_stride),
+                _draw_gaussians(fine, np.array([0]), cells_to_fine(input_to_cells([annotation["center"]], stride)),
                                 max(config.centre_sigma * size_cells * FINE_FACTOR, config.min_sigma_cells))
         sigma = max(config.keypoint_sigma * size_cells, config.min_sigma_cells)
         keypoints = np.asarray(annotation["keypoints"], np.float64).reshape(-1, 3)
