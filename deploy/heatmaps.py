@@ -103,13 +103,13 @@ def fine_centre_channels(fine: np.ndarray) -> np.ndarray:
 
 def fine_to_cells(xy: np.ndarray) -> np.ndarray:
     """Fine centre-map coordinates -> heat-map cell coordinates (both with cell centres at integers: a fine cell of
-    stride s / 2 and a cell of stride s, :func:`input_to_cells`)."""
-    return (np.asarray(xy, np.float64) + 0.5) / FINE_FACTOR - 0.5
+    stride s / 2 and a cell of stride s: a cell is FINE_FACTOR fine cells as a fine cell is s / 2 pixels)."""
+    return input_to_cells(xy, FINE_FACTOR)
 
 
 def cells_to_fine(xy: np.ndarray) -> np.ndarray:
     """Heat-map cell coordinates -> fine centre-map coordinates (inverse of :func:`fine_to_cells`)."""
-    return (np.asarray(xy, np.float64) + 0.5) * FINE_FACTOR - 0.5
+    return cells_to_input(xy, FINE_FACTOR)
 
 
 def input_to_cells(xy: np.ndarray, stride: int) -> np.ndarray:
