@@ -76,7 +76,8 @@ class TrainSettings(_Section):
                                                     "(on in the standard and full budgets)")
     fine_centre: bool = Field(False, description="also learn the centre map at twice the resolution (with "
                                                  "centre_offsets): people one behind another, 1.5-2 heat-map cells "
-                                                 "apart, keep two peaks there")
+                                                 "apart, keep two peaks there; the two maps share the centre "
+                                                 "map's loss weight")
     centre_offset_weight: float = Field(LossWeights.centre_offsets, gt=0.0,
                                         description="the centre offsets' share of the loss (with centre_offsets): "
                                                     "lower leaves more of the network to the keypoint maps")
