@@ -3,11 +3,13 @@ delta * mean MSE(handedness) for the maps that tell which member of each keypoin
 (:mod:`vc.deploy.heatmaps`), and, for networks that emit them, epsilon times the centre offsets' L1 error weighed
 by the target mask (an offset means something only on a person's pixels; L1, as in Panoptic-DeepLab, so that the
 cells on the border between two people, whose owner is a coin toss, do not dominate). For networks with a fine
-centre map, alpha weighs the mean of the coarse and the fine map's MSE (their Gaussians are as wide in pixels, so
-the two errors are of one size): the centre map keeps its share of the loss whether it is learned at one
-resolution or two. Weighed alpha each, the centre terms took twice their share and pose was learned later: on
-TUD-Stadtmitte's near region held-out PCKh 0.80 -> 0.62 after 1 800 steps, 0.77 with the mean; PETS09's
-middle region 0.61 -> 0.57, 0.60 with the mean (benchmarks/results/fine_centre_pets09.md).
+centre map, alpha times its MSE too (its Gaussians are as wide in pixels as the coarse map's, so the two errors
+are of one size): the centre map then takes twice its share of the loss. Weighing the mean of the two instead
+(alpha x (coarse + fine) / 2) kept more of the held-out renders' PCKh (TUD-Stadtmitte's near region 0.62 -> 0.77,
+PETS09 0.57 -> 0.60) but less on the real frames, where pose and people are judged: on PETS09, three seeds, pose
+agreement with YOLO11n-pose equal (0.756, read at the fine map's peaks), tracked AP50 0.958 -> 0.949 and people
+overlapping another 0.930 -> 0.907 (the coarse map's peaks); on TUD-Stadtmitte, one seed, AP50 0.885 -> 0.847 and
+pose agreement 0.652 -> 0.632 (the fine map's peaks) (benchmarks/results/fine_centre_pets09.md).
 
 Each term is a mean squared error over its heat-map pixels (the pose and handedness terms the mean over their
 maps; the offsets' term their mask-weighed absolute error, averaged likewise).
@@ -85,8 +87,7 @@ def scene_pose_loss(outputs: dict[str, Tensor | list[Tensor]], targets: Tensor,
     final_terms: dict[str, Tensor] = {}
     for stage, prediction in enumerate([*outputs["beliefs"], outputs["heatmaps"]]):
         terms = heatmap_terms(prediction, targets)
-        centre = (terms["detection"] + terms["fine_centre"]) / 2 if "fine_centre" in terms else terms["detection"]
-        total = total + (weights.detection * centre
+        total = total + (weights.detection * (terms["detection"] + terms.get("fine_centre", 0.0))
                          + weights.pose * terms["pose"]
                          + weights.segmentation * terms["segmentation"] + weights.handedness * terms["handedness"]
                          + weights.centre_offsets * terms.get("centre_offsets", 0.0))

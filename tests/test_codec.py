@@ -391,7 +391,7 @@ def test_the_fine_centre_map_keeps_two_peaks_where_the_coarse_one_draws_one() ->
     x, y = input_to_cells([113.3, 95.7], STRIDE)
     heatmaps[CENTRE_CHANNEL] = np.exp(-((columns - x) ** 2 + (rows - y) ** 2) / (2 * 1.5**2))
     heights = np.full(heatmaps.shape[1:], 48.0)
-    config = DecodeConfig(stride=STRIDE, min_centre_separation=0.1, vote_separation=0.1)
+    config = DecodeConfig(stride=STRIDE, min_centre_separation=0.1, vote_separation=0.1, fine_centre_peaks=True)
     assert len(decode(heatmaps[:OFFSET_CHANNELS], config, heights)) == 1
     found = decode(heatmaps, config, heights)
     assert len(found) == 2

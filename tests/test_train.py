@@ -92,7 +92,7 @@ def test_centre_offsets_are_learned_on_people_only_and_the_codec_sets_the_networ
         TrainConfig(network=with_offsets.network)
 
 
-def test_the_fine_centre_map_shares_the_centre_map_s_weight_and_the_codec_sets_the_network_s_maps():
+def test_the_fine_centre_map_is_weighed_as_the_centre_map_and_the_codec_sets_the_network_s_maps():
     prediction, targets = torch.rand(2, FINE_CHANNELS, 8, 8), torch.rand(2, FINE_CHANNELS, 8, 8)
     terms = heatmap_terms(prediction, targets)
     assert float(terms["fine_centre"]) == pytest.approx(
@@ -101,8 +101,8 @@ def test_the_fine_centre_map_shares_the_centre_map_s_weight_and_the_codec_sets_t
     weights = LossWeights(detection=2.0)
     loss, _ = scene_pose_loss({"beliefs": [], "heatmaps": prediction}, targets, weights)
     without, _ = scene_pose_loss({"beliefs": [], "heatmaps": prediction}, targets, replace(weights, detection=0.0))
-    # the centre map's share of the loss is the same at one resolution or two: alpha x the mean of the two errors
-    assert float(loss - without) == pytest.approx(float(terms["detection"] + terms["fine_centre"]), rel=1e-5)
+    # alpha weighs each of the two centre maps' errors: the coarse map's share is what it is without the fine one
+    assert float(loss - without) == pytest.approx(2.0 * float(terms["detection"] + terms["fine_centre"]), rel=1e-5)
     coarse_only, _ = scene_pose_loss({"beliefs": [], "heatmaps": prediction[:, :OFFSET_CHANNELS]},
                                      targets[:, :OFFSET_CHANNELS], weights)
     coarse_without, _ = scene_pose_loss({"beliefs": [], "heatmaps": prediction[:, :OFFSET_CHANNELS]},
