@@ -130,7 +130,7 @@ class DecodeConfig:
     # served only as a training target (False). Learning the fine map is what finds people one behind another;
     # reading its peaks adds little to that and doubles the identity switches: PETS09, three seeds, tracked AP50
     # 0.958 against 0.953, overlapping recall 0.930 against 0.938, MOTA 0.903 against 0.866, 8 identity switches
-    # against 18; TUD-Stadtmitte 20 against 43 (benchmarks/results/fine_centre_pets09.md).
+    # against 18; TUD-Stadtmitte 21 against 40, AP50 0.858 against 0.867 (benchmarks/results/fine_centre_pets09.md).
     fine_centre_peaks: bool = False
 
 

@@ -169,8 +169,8 @@ PRESETS: dict[str, CompileConfig] = {
     # recall of people overlapping another 0.78 -> 0.83, MOTA and IDF1 up in all three, +0.3 ms a frame
     # (benchmarks/results/centre_offsets_pets09.md). With the centre map also learned at twice the resolution, the
     # same renders and seeds: tracked AP50 0.945 -> 0.958, overlapping recall 0.868 -> 0.930, MOTA 0.890 -> 0.903,
-    # pose agreement 0.763 -> 0.755; TUD-Stadtmitte seed 0 0.853 -> 0.874 (benchmarks/results/fine_centre_pets09.md).
-    # Neither measured at the quick budget's 200 steps
+    # pose agreement 0.763 -> 0.755; TUD-Stadtmitte, three seeds, 0.853 -> 0.858, pose agreement 0.640 -> 0.679
+    # (benchmarks/results/fine_centre_pets09.md). Neither measured at the quick budget's 200 steps
     "standard": CompileConfig(render=RenderSettings(samples=2000),
                               train=TrainSettings(centre_offsets=True, fine_centre=True)),
     "full": CompileConfig(render=RenderSettings(samples=6000, spp=32),
