@@ -251,8 +251,9 @@ class Sweep:
         regions = {"mode": regions} if isinstance(regions, str) else dict(regions)
         if point.single_region:
             regions["mode"] = "single"
-        if point.target_person_px is not None:
+        if point.target_person_px is not None:  # the knob plans every region at its size
             regions["target_person_px"] = point.target_person_px
+            regions.pop("person_px_by_region", None)
         document["regions"] = regions
         if not point.effects:
             from vc.scenes.loader import load_scene
@@ -329,12 +330,13 @@ class Sweep:
 
     def as_compiled(self, point: Point) -> Point:
         """``point`` with a knob value that is the scene's own setting left unset: the same compile as the standard
-        one, so it shares its keys (PETS plans 48 px people: ``input 48 px`` is the standard point, not a copy; its
-        people wear the mixed clothing: ``mixed`` is the compute knob's point)."""
+        one, so it shares its keys (the demo scene plans 80 px people: ``input 80 px`` is the standard point, not a
+        copy; PETS's people wear the mixed clothing: ``mixed`` is the compute knob's point). A scene that sizes some
+        regions on their own (PETS: r1 at 48 px, the rest at 42) equals no input point."""
         from vc.scenes.loader import load_scene
 
         scene = load_scene(self.scene_yaml)
-        if point.target_person_px == scene.regions.target_person_px:
+        if point.target_person_px == scene.regions.target_person_px and not scene.regions.person_px_by_region:
             point = replace(point, target_person_px=None)
         if point.clothing == scene.priors.clothing:
             point = replace(point, clothing=None)

@@ -12,6 +12,7 @@ from dataclasses import asdict
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
+import yaml
 from conftest import REPO, load_benchmark
 from matplotlib.transforms import Bbox
 
@@ -70,6 +71,26 @@ def test_scene_overrides_plan_what_the_point_asks_for(tmp_path):
     assert all(a.input_size[0] < b.input_size[0] for a, b in zip(small, default, strict=True))
     no_effects = load_scene(sweep.scene(KNOBS["effects"]["off"]))
     assert no_effects.effects == ["lens_distortion"]  # the demo lens is distorted: labels must follow it
+
+
+def test_the_input_knob_plans_every_region_at_its_size(tmp_path):
+    """A scene that sizes one region on its own (PETS09: r1 at 48 px, the others at 42) must not carry that size into
+    the input knob's points, and the knob value equal to its target is then another compile, not the standard one."""
+    demo = REPO / "scenes/demo/scene.yaml"
+    document = yaml.safe_load(demo.read_text())
+    document["image"] = str((demo.parent / document["image"]).resolve())
+    nearest = plan_regions(load_scene(demo))[-1].name
+    document["regions"] = {"mode": "auto", "target_person_px": 80.0, "person_px_by_region": {nearest: 40.0}}
+    scene = tmp_path / "scene.yaml"
+    scene.write_text(yaml.safe_dump(document))
+    sweep = _sweep(tmp_path / "work", scene=scene)
+
+    sized = plan_regions(load_scene(scene))
+    at_80 = plan_regions(load_scene(sweep.scene(KNOBS["input"]["80 px"])))
+    assert len(sized) > 1
+    assert at_80[-1].input_size[0] > sized[-1].input_size[0]
+    assert [r.input_size for r in at_80[:-1]] == [r.input_size for r in sized[:-1]]
+    assert sweep.as_compiled(KNOBS["input"]["80 px"]) == KNOBS["input"]["80 px"] != BASE
 
 
 def _measured(value: str, ap50: float) -> dict:
