@@ -502,6 +502,21 @@ def test_the_runtime_profile_accounts_for_each_region_and_the_whole_frame(bundle
     assert all(f"| {name} |" in report for name in result["regions"]) and "clip.avi" in report
 
 
+def test_interleaved_runtime_times_every_frame_with_every_bundle_and_reads_ratios_two_ways(bundle):
+    interleaved = load_benchmark("runtime_interleaved")
+    width, height = load_bundle(bundle).frame_size
+    frames = [np.random.default_rng(k).integers(0, 255, (height, width, 3), np.uint8) for k in range(2)]
+    seconds = interleaved.interleaved_seconds([bundle, bundle], frames, threads=1, passes=2)
+    assert seconds.shape == (2, 4) and (seconds > 0).all()
+    # a bundle twice as slow on half the frames: its median moves 1.5x, its typical frame 2x
+    report = interleaved.summary(["a", "b"], np.array([[1.0, 2.0, 3.0], [2.0, 4.0, 3.0]]))
+    assert report["median_ms"] == {"a": 2000.0, "b": 3000.0}
+    assert report["ratio_of_medians"] == {"a": 1.0, "b": 1.5}
+    assert report["median_of_frame_ratios"] == {"a": 1.0, "b": 2.0}
+    with pytest.raises(SystemExit):
+        interleaved.main(["no-label-given", "--video", "v.avi"])
+
+
 def test_groups_on_renders_counts_every_person_asked_for_once_apart_or_in_a_group(bundle, trained_run, tmp_path):
     load_benchmark("decode_variants")  # groups_on_renders takes its variant parsing from there
     groups = load_benchmark("groups_on_renders")
