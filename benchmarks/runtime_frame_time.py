@@ -37,6 +37,15 @@ def frame_milliseconds(bundle: Path, frames: list[np.ndarray], parallel: bool, t
     return round(float(np.median(times)) * 1e3, 2)
 
 
+def report(result: dict, out: Path | None) -> None:
+    """Prints ``result`` as one JSON line and, with ``out``, appends that line to it (runs accumulate in one file)."""
+    line = json.dumps(result)
+    print(line)
+    if out is not None:
+        with out.open("a") as file:
+            file.write(line + "\n")
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("bundle", type=Path)
@@ -58,11 +67,7 @@ def main(argv: list[str] | None = None) -> int:
               "threads": args.threads,
               "parallel_ms": frame_milliseconds(args.bundle, frames, True, args.threads, args.repeats),
               "in_turn_ms": frame_milliseconds(args.bundle, frames, False, args.threads, args.repeats)}
-    line = json.dumps(result)
-    print(line)
-    if args.out is not None:
-        with args.out.open("a") as file:
-            file.write(line + "\n")
+    report(result, args.out)
     return 0
 
 

@@ -15,15 +15,18 @@ whichever of them is late). Prints one JSON line; with ``--out`` appends it to t
 from __future__ import annotations
 
 import argparse
-import json
+import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-from vc.deploy.frames import FrameRange, FrameSource
-from vc.deploy.runtime import Runtime
-from vc.errors import InputError
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from runtime_frame_time import report  # noqa: E402
+
+from vc.deploy.frames import FrameRange, FrameSource  # noqa: E402
+from vc.deploy.runtime import Runtime  # noqa: E402
+from vc.errors import InputError  # noqa: E402
 
 WARM_UP_FRAMES = 3
 
@@ -89,11 +92,7 @@ def main(argv: list[str] | None = None) -> int:
     seconds = interleaved_seconds(paths, frames, args.threads, args.passes)
     result = {"bundles": dict(zip(labels, map(str, paths), strict=True)), "frames": len(frames),
               "passes": args.passes, "threads": args.threads, **summary(labels, seconds)}
-    line = json.dumps(result)
-    print(line)
-    if args.out is not None:
-        with args.out.open("a") as file:
-            file.write(line + "\n")
+    report(result, args.out)
     return 0
 
 
