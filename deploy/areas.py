@@ -25,19 +25,24 @@ class ImageArea:
 
     def __init__(self, geojson: dict) -> None:
         polygons = [geojson["coordinates"]] if geojson["type"] == "Polygon" else geojson["coordinates"]
-        self.polygon_edges = [np.concatenate([_edges(ring) for ring in rings]) for rings in polygons]
+        # Per polygon, all its rings' edges as (1, E) rows ready to broadcast against points: x0, y0, y1, the run
+        # x1 - x0 and the rise y1 - y0, a horizontal edge's rise set to 1 (a ray never crosses it, so its crossing is
+        # never read: no division by zero to silence, which costs more than the test).
+        self._edge_rows = []
+        for rings in polygons:
+            x0, y0, x1, y1 = np.concatenate([_edges(ring) for ring in rings]).T[:, None, :]
+            rise = y1 - y0
+            self._edge_rows.append((x0, y0, y1, x1 - x0, np.where(rise == 0, 1.0, rise)))
 
     def contains(self, points: np.ndarray) -> np.ndarray:
         """Whether each of the points (N, 2) lies in the area (even-odd rule, holes respected)."""
         points = np.asarray(points, np.float64).reshape(-1, 2)
         x, y = points[:, 0, None], points[:, 1, None]
         result = np.zeros(len(points), bool)
-        for edges in self.polygon_edges:
-            x0, y0, x1, y1 = (edges[None, :, k] for k in range(4))
+        for x0, y0, y1, run, rise in self._edge_rows:
             crosses = (y0 > y) != (y1 > y)
-            with np.errstate(divide="ignore", invalid="ignore"):  # horizontal edges: never crossed, never used
-                x_cross = x0 + (y - y0) * (x1 - x0) / (y1 - y0)
-            result |= np.sum(crosses & (x < x_cross), axis=1) % 2 == 1
+            x_cross = x0 + (y - y0) * run / rise
+            result |= np.logical_xor.reduce(crosses & (x < x_cross), axis=1)  # an odd number of crossings
         return result
 
 

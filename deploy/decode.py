@@ -223,19 +223,20 @@ def _maxima_in(maps: np.ndarray, threshold: float,
            max(1 - left, 0):columns_inside + 2 - max(right + 1 - width, 0)] = \
         maps[:, max(top - 1, 0):min(bottom + 1, height), max(left - 1, 0):min(right + 1, width)]
     # Only the cells above the threshold are compared with their neighbours (a few percent of a map's cells: a
-    # tenth of the time of comparing whole maps).
-    found, cell = np.divmod(np.flatnonzero(padded[:, 1:-1, 1:-1] > threshold), rows_inside * columns_inside)
-    rows, columns = np.divmod(cell, columns_inside)
-    row_length = columns_inside + 2
+    # tenth of the time of comparing whole maps), one pair of opposite neighbours at a time, the cells that fail
+    # dropped before the next pair is read (half fail the first pair on a keypoint map's gentle slopes).
+    inside = np.zeros(padded.shape, bool)
+    inside[:, 1:-1, 1:-1] = padded[:, 1:-1, 1:-1] > threshold
+    at = np.flatnonzero(inside)  # in reading order of the padded maps
     flat = padded.reshape(-1)
-    at = found * ((rows_inside + 2) * row_length) + (rows + 1) * row_length + columns + 1  # in ``flat``
     values = flat[at]
-    peak = np.ones(len(at), bool)
-    for before in (row_length + 1, row_length, row_length - 1, 1):  # strictly above: ties go to the first cell
-        peak &= values > flat[at - before]
-    for after in (1, row_length - 1, row_length, row_length + 1):
-        peak &= values >= flat[at + after]
-    return found[peak], rows[peak] + top, columns[peak] + left, values[peak]
+    row_length = columns_inside + 2
+    for step in (1, row_length, row_length + 1, row_length - 1):  # strictly above the neighbour before in reading
+        higher = (values > flat[at - step]) & (values >= flat[at + step])  # order: ties go to the first cell
+        at, values = at[higher], values[higher]
+    found, cell = np.divmod(at, (rows_inside + 2) * row_length)
+    rows, columns = np.divmod(cell, row_length)
+    return found, rows - 1 + top, columns - 1 + left, values
 
 
 def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
@@ -413,9 +414,9 @@ def _exclusive_keypoints(keypoint_maps: np.ndarray, centres_cells: np.ndarray, h
     count, channels = len(centres_cells), keypoint_maps.shape[0]
     _, height, width = keypoint_maps.shape
     sigmas = config.search_sigma * heights_cells  # (N,)
-    expected = np.stack([np.broadcast_to(centres_cells[:, 0, None], (count, channels)),
-                         centres_cells[:, 1, None] + UPRIGHT_OFFSETS[None, :channels] * heights_cells[:, None]],
-                        axis=-1)  # (N, 17, 2) cells
+    expected = np.empty((count, channels, 2))  # (N, 17, 2) cells
+    expected[..., 0] = centres_cells[:, 0, None]
+    expected[..., 1] = centres_cells[:, 1, None] + UPRIGHT_OFFSETS[None, :channels] * heights_cells[:, None]
     on_map = (expected[..., 1] > -0.5) & (expected[..., 1] < height - 0.5)  # (N, 17)
     # Every map's peaks at once (K in all), scored against every person: the maps do not compete, so taking the
     # pairs best first over all of them takes each map's best first (equal scores in (person, peak) order).
@@ -430,10 +431,10 @@ def _exclusive_keypoints(keypoint_maps: np.ndarray, centres_cells: np.ndarray, h
     slots_taken: set[tuple[int, int]] = set()
     peaks_taken: set[int] = set()
     owners, owned = [], []
-    map_of_peak = peak_maps.tolist()
-    for flat in candidates[np.argsort(-scores.ravel()[candidates], kind="stable")].tolist():
-        person, peak = divmod(flat, len(values))
-        slot = (person, map_of_peak[peak])
+    people_of, peaks_of = np.divmod(candidates[np.argsort(-scores.ravel()[candidates], kind="stable")], len(values))
+    for person, peak, peak_map in zip(people_of.tolist(), peaks_of.tolist(), peak_maps[peaks_of].tolist(),
+                                      strict=True):
+        slot = (person, peak_map)
         if slot in slots_taken or peak in peaks_taken:
             continue
         slots_taken.add(slot)
