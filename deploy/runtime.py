@@ -13,7 +13,7 @@ the one kept across a seam, else the weaker.
 
 from __future__ import annotations
 
-from concurrent.futures import Future, ThreadPoolExecutor
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -203,10 +203,10 @@ class Runtime:
     """A loaded bundle: ``runtime(frame)`` -> the people in an (H, W, 3) uint8 RGB frame.
 
     ``threads``: the cores to use (default: all this process may use, :func:`vc.cores.usable_cores`). With
-    ``parallel_regions`` the regions run at once in a pool of that many threads, one intra-op thread each, each
-    region's network and its decoding as two tasks; otherwise one after the other, each with all ``threads``. The
-    default (None) runs regions in parallel when there are several: a region's network alone does not keep two
-    cores busy (PETS09, int8, 2 cores: 21 ms per frame in parallel, 28 ms in turn; benchmarks/runtime_latency.py).
+    ``parallel_regions`` the regions run at once in a pool of that many threads, one intra-op thread each;
+    otherwise one after the other, each with all ``threads``. The default (None) runs regions in parallel
+    when there are several: a region's network alone does not keep two cores busy (PETS09, int8, 2 cores: 21 ms
+    per frame in parallel, 28 ms in turn; benchmarks/runtime_latency.py).
     ``public_key``: a PEM Ed25519 public key (file or bytes); the bundle then loads only if its manifest is signed
     by it (:mod:`vc.deploy.signing`).
     ``weak_people_above``: also decode the centre peaks between this and the bundle's own threshold, as people
@@ -251,15 +251,6 @@ class Runtime:
     def __exit__(self, *exc_info: object) -> None:
         self.close()
 
-    def _network_then_queued_decoding(self, runner: RegionRunner, frame: np.ndarray) -> Future[list[Person]]:
-        """Runs ``runner``'s network on ``frame`` and queues its decoding as a task of its own, behind the networks
-        already waiting: a thread done with a network takes the next region's network first, so the networks
-        (onnxruntime, which releases the GIL) run beside the decodings (numpy on small arrays, which mostly holds
-        it) instead of a decoding at the end of the frame waiting for its region's thread. PETS09, interleaved in
-        one process, a 2-core machine: 0.94x the frame of one task per region (benchmarks/results/
-        input_small_pets09.md)."""
-        return self.pool.submit(runner.people_in, runner.heatmaps(frame))
-
     def __call__(self, frame: np.ndarray) -> list[Person]:
         if not self.runners:
             raise RuntimeError("this runtime was closed")
@@ -267,9 +258,7 @@ class Runtime:
         if self.pool is None:
             per_region = [runner.people(frame) for runner in self.runners]
         else:
-            decodings = [network.result() for network in [self.pool.submit(self._network_then_queued_decoding, runner,
-                                                                           frame) for runner in self.runners]]
-            per_region = [decoding.result() for decoding in decodings]
+            per_region = list(self.pool.map(lambda runner: runner.people(frame), self.runners))
         return without_seam_duplicates(sorted((person for people in per_region for person in people),
                                               key=lambda person: -person.score))
 

@@ -360,10 +360,10 @@ def test_a_run_moved_with_its_renders_still_exports(trained_run, tmp_path):
 
 
 def test_regions_in_parallel_find_the_people_they_find_in_turn(bundle):
-    """With regions in parallel each region's decoding is a task queued behind the other regions' networks
-    (Runtime._network_then_queued_decoding); the people must be the ones the regions find one after the other.
-    Three regions share the test network, each owning a band of the frame; every centre peak is a person (the
-    briefly trained network's centre map stays below 0.005), so there are people to compare."""
+    """Regions run in a thread pool (the default with several regions and cores) must report the people they
+    report one after the other, in the same order. Three regions share the test network, each owning a band of the
+    frame; every centre peak is a person (the briefly trained network's centre map stays below 0.005), so there are
+    people to compare."""
     loaded = load_bundle(bundle)
     entry = loaded.regions[0]
     width, height = loaded.frame_size
