@@ -21,7 +21,7 @@ $(LLVM_LIB):
 		sudo apt-get update -qq && sudo DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libllvm19; \
 	fi
 
-$(STAMP): pyproject.toml runtime/pyproject.toml $(LLVM_LIB)
+$(STAMP): pyproject.toml packaging/runtime/pyproject.toml $(LLVM_LIB)
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	# torch first: the pinned CPU wheel; any looser spec pulls GBs of CUDA packages.
 	$(PIP) install -q torch==2.13.0
@@ -43,15 +43,15 @@ test-fast: install
 # validate the scene and draw its region plan, then vc-compile it at the quick budget (~10 minutes on 2 cores:
 # render synthetic people, train one ScenePoseNet per region, export the ONNX bundle, self-test it on full frames).
 demo: install
-	$(VENV)/bin/vc-scene synthesize scenes/demo/scene.yaml -o $(DEMO_OUT)/background.png --spp 128
-	$(VENV)/bin/vc-scene show scenes/demo/scene.yaml -o $(DEMO_OUT)/regions.png
-	$(VENV)/bin/vc-compile scenes/demo/scene.yaml -o $(DEMO_OUT) --budget quick
+	$(VENV)/bin/vc-scene synthesize examples/scenes/demo/scene.yaml -o $(DEMO_OUT)/background.png --spp 128
+	$(VENV)/bin/vc-scene show examples/scenes/demo/scene.yaml -o $(DEMO_OUT)/regions.png
+	$(VENV)/bin/vc-compile examples/scenes/demo/scene.yaml -o $(DEMO_OUT) --budget quick
 	@echo "demo: the compiled detector on a demo frame: $(DEMO_OUT)/overlay.png (white: truth);" \
 		"bundle $(DEMO_OUT)/bundle, stage record $(DEMO_OUT)/compile.json, region plan $(DEMO_OUT)/regions.png"
 
-# The appliance runtime (numpy + onnxruntime only; extras video and signatures) as a wheel in dist/: runtime/.
+# The appliance runtime (numpy + onnxruntime only; extras video and signatures) as a wheel in dist/: packaging/runtime/.
 runtime-wheel: install
-	$(PY) runtime/build.py -o dist
+	$(PY) packaging/runtime/build.py -o dist
 
 lint: install
 	$(VENV)/bin/ruff check .

@@ -110,7 +110,7 @@ class Point:
     photometry: str = "matched"  # see PHOTOMETRY; points stored before the knob were "off"
     # people placed alone, whatever the scene says (its own rate is a knob value like any other): every point
     # before the groups knob was measured so, and a scene that since says its people walk in groups
-    # (scenes/pets09_s2l1) must not turn the reference into another compile under the same cache keys
+    # (examples/scenes/pets09_s2l1) must not turn the reference into another compile under the same cache keys
     group_rate: float = 0.0
     compute: str = "fp32"  # the trainer's compute settings, a name of TRAINING_COMPUTE
     clothing: str | None = None  # None: the scene's own priors.clothing
@@ -424,7 +424,7 @@ class Sweep:
 
     def real(self, bundle: Path, knob: str, value: str) -> dict:
         from vc.deploy.frames import FrameRange
-        from vc.evaluation.evaluate import OURS, OURS_SINGLE_FRAME, EvaluationRequest, evaluate_bundle
+        from vc.evaluation.real_video import OURS, OURS_SINGLE_FRAME, EvaluationRequest, evaluate_bundle
 
         request = EvaluationRequest(bundle=bundle, video=self.settings.dev_video, ground_truth=self.settings.dev_gt,
                                     output=self.work / "evals" / knob / value.replace(" ", "_"),

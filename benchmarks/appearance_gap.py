@@ -95,7 +95,7 @@ def summary(rows: np.ndarray) -> dict:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--scene", type=Path, default=Path("scenes/pets09_s2l1/scene.yaml"))
+    parser.add_argument("--scene", type=Path, default=Path("examples/scenes/pets09_s2l1/scene.yaml"))
     parser.add_argument("--dataset", type=Path, required=True, help="a vc-render dataset of the scene")
     parser.add_argument("--video", type=Path, required=True)
     parser.add_argument("--gt", type=Path, required=True)

@@ -9,7 +9,7 @@ one exposure. Where the re-render and the background differ, the background impl
 ground, per band of view elevation (the angle between the camera's ray and the ground: low is grazing, far away),
 and per region.
 
-    python benchmarks/ground_albedo.py --scene scenes/pets09_s2l1/scene.yaml [--out benchmarks/results]
+    python benchmarks/ground_albedo.py --scene examples/scenes/pets09_s2l1/scene.yaml [--out benchmarks/results]
         [--name pets09]
 
 Writes ``ground_albedo_<name>.json``, ``.md`` and ``.png`` (implied albedo against view elevation, per kind).

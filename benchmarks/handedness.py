@@ -24,7 +24,7 @@ from vc.deploy.heatmaps import HANDEDNESS_CHANNELS, MASK_CHANNEL
 from vc.io import write_json
 from vc.model.codec import encode
 from vc.model.export import network_from_checkpoint
-from vc.model.train import checkpoint_path, load_checkpoint
+from vc.model.trainer import checkpoint_path, load_checkpoint
 from vc.render.dataset import open_region, read_manifest, read_sample
 
 #: Cells a person covers by at least this much are compared (the mask target is coverage).

@@ -22,7 +22,10 @@ from vc.calibration.response import Response
 from vc.io import write_json
 from vc.render.background import render_background
 from vc.render.relight import layout_solids, sun_angle_error_deg
-from vc.scenes.loader import BUNDLED_SCENES, Scene, load_scene
+from vc.scenes.loader import Scene, load_scene
+
+#: The repository's example scenes (data, not part of the package).
+EXAMPLE_SCENES = Path(__file__).resolve().parents[1] / "examples" / "scenes"
 
 #: (name, true light): the demo's own afternoon sun, a high one, a low one against the camera, an overcast sky.
 CASES: dict[str, Illumination] = {
@@ -57,7 +60,7 @@ def main() -> None:
     parser.add_argument("--scale", type=float, default=0.5, help="camera scale (default 0.5: 480x270)")
     parser.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
     args = parser.parse_args()
-    scene = load_scene(BUNDLED_SCENES / "demo" / "scene.yaml")
+    scene = load_scene(EXAMPLE_SCENES / "demo" / "scene.yaml")
     rows = []
     for name, truth in CASES.items():
         _, errors = recover(scene, truth, args.scale)

@@ -37,10 +37,10 @@ from vc.io import write_json  # noqa: E402
 from vc.model.config import DEFAULT_ARCH, PRESETS, NetworkConfig  # noqa: E402
 from vc.model.loss import scene_pose_loss  # noqa: E402
 from vc.model.network import ScenePoseNet  # noqa: E402
-from vc.model.train import TrainConfig, forward, memory_format  # noqa: E402
+from vc.model.trainer import TrainConfig, forward, memory_format  # noqa: E402
 from vc.stages.config import TRAINING_COMPUTE  # noqa: E402
 
-#: The demo scene's region inputs (scenes/demo) and PETS09's (scenes/pets09_s2l1).
+#: The demo scene's region inputs (examples/scenes/demo) and PETS09's (examples/scenes/pets09_s2l1).
 DEFAULT_INPUTS = ["1088x272", "704x320", "1248x320", "816x304", "528x256"]
 #: (window width, height), batch of the paper architecture's one timed training step.
 PAPER_WORKLOAD = ((128, 128), 2)

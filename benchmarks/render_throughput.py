@@ -1,6 +1,6 @@
 """Render throughput: labelled samples per second per region and spp, and where the time goes.
 
-    python benchmarks/render_throughput.py [--scene scenes/pets09_s2l1/scene.yaml] [--spp 4 16 64]
+    python benchmarks/render_throughput.py [--scene examples/scenes/pets09_s2l1/scene.yaml] [--spp 4 16 64]
                                            [--samples 40] [--warmup 5] [--out benchmarks/results]
     python benchmarks/render_throughput.py --photometry [--scene ...] [--samples 40] [--out DIR]
     python benchmarks/render_throughput.py --processes 12 [--scene ...] [--samples 400] [--out DIR]
@@ -47,9 +47,12 @@ from vc.render import dataset  # noqa: E402
 from vc.render.bodies import BodyModel  # noqa: E402
 from vc.render.plan import plan_render  # noqa: E402
 from vc.render.synthesis import RegionSynthesizer, SynthesisSettings  # noqa: E402
-from vc.scenes.loader import BUNDLED_SCENES, Scene, load_scene  # noqa: E402
+from vc.scenes.loader import Scene, load_scene  # noqa: E402
 from vc.scenes.regions import plan_regions  # noqa: E402
 from vc.scenes.schema import Lighting  # noqa: E402
+
+#: The repository's example scenes (data, not part of the package).
+EXAMPLE_SCENES = Path(__file__).resolve().parents[1] / "examples" / "scenes"
 
 REFERENCE_SPP = 16
 
@@ -196,7 +199,7 @@ def _plot(results: list[dict], path: Path) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--scene", type=Path, default=BUNDLED_SCENES / "pets09_s2l1" / "scene.yaml")
+    parser.add_argument("--scene", type=Path, default=EXAMPLE_SCENES / "pets09_s2l1" / "scene.yaml")
     parser.add_argument("--spp", type=int, nargs="+", default=[4, 16, 64])
     parser.add_argument("--samples", type=int, default=40)
     parser.add_argument("--warmup", type=int, default=5)

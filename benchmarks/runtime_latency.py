@@ -85,7 +85,7 @@ def _video_frames(video: Path, selection: str, count: int) -> np.ndarray:
 def _frames(run: Path, scene: Path, count: int) -> np.ndarray:
     from vc.evaluation.selftest import composite_frame
     from vc.io import read_image
-    from vc.model.train import load_checkpoint
+    from vc.model.trainer import load_checkpoint
     from vc.render.dataset import open_region, read_manifest
     from vc.scenes.loader import load_scene
 

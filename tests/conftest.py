@@ -16,6 +16,8 @@ from vc.calibration.distortion import BrownConrady
 from vc.model.config import network_config
 
 REPO = Path(__file__).resolve().parents[1]
+#: The example scenes: data in the repository, not in the package.
+EXAMPLE_SCENES = REPO / "examples" / "scenes"
 PETS_DATA = REPO.parent / "shared" / "data" / "pets09_s2l1"
 TESTS_DATA = Path(__file__).resolve().parent / "data"
 
@@ -25,7 +27,7 @@ TOWN_CENTRE = {"fx": 2696.35888671875, "fy": 2696.35888671875, "cx": 959.5, "cy"
 
 
 def load_script(path: Path, name: str) -> ModuleType:
-    """A script of this repository (benchmarks/, runtime/build.py) as a module: they are scripts, not a package."""
+    """A script of this repository (``packaging/runtime/build.py``) as a module: it is a script, not a package."""
     spec = importlib.util.spec_from_file_location(name, path)
     module = importlib.util.module_from_spec(spec)
     sys.modules[name] = module  # dataclasses look their module up while it executes
@@ -52,7 +54,7 @@ def rewrite_checkpoint(path: Path, edit) -> None:
     digest sealed again (a file edited without that is a damaged one, and refused as such)."""
     import torch
 
-    from vc.model.train import content_digest
+    from vc.model.trainer import content_digest
 
     content = torch.load(path, weights_only=True)
     content.pop("content_sha256", None)
@@ -97,7 +99,7 @@ def trained_run(tmp_path_factory) -> Path:
     """A finished two-step run of the small network on a flat test dataset (tests/dataset_factory.py)."""
     from dataset_factory import write_dataset
 
-    from vc.model.train import RegionTrainer, TrainConfig
+    from vc.model.trainer import RegionTrainer, TrainConfig
     from vc.render.dataset import open_region
 
     root = tmp_path_factory.mktemp("export")

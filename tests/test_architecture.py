@@ -1,8 +1,10 @@
 """The layering the code keeps: commands parse and report, library functions do the work.
 
-No module outside ``vc/cli/`` imports a command module (a command never runs another's argument parser either: the
-library stage is there to call), and no function outside ``vc/cli/`` takes an argparse ``Namespace``. The benchmarks
-are held to the same rule: they call the stages with typed settings, as the commands do."""
+The package is ``src/vc``; its subpackages are the architecture (scenes -> calibration -> render -> model -> deploy,
+measured by evaluation, driven by stages, fronted by cli). No module outside ``vc/cli/`` imports a command module (a
+command never runs another's argument parser either: the library stage is there to call), and no function outside
+``vc/cli/`` takes an argparse ``Namespace``. The benchmarks are held to the same rule: they call the stages with typed
+settings, as the commands do."""
 
 from __future__ import annotations
 
@@ -12,15 +14,18 @@ import sys
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
-LIBRARY = ("vc", "scenes", "calibration", "render", "model", "deploy", "stages", "evaluation", "benchmarks")
+PACKAGE = REPO / "src" / "vc"
+LIBRARY = (PACKAGE, REPO / "benchmarks")
+#: What ``src/vc`` holds: one subpackage per part of the compiler, named after its import path.
+SUBPACKAGES = {"cli", "scenes", "calibration", "render", "model", "deploy", "evaluation", "stages"}
 
 
 def _modules() -> list[Path]:
-    return [path for folder in LIBRARY for path in (REPO / folder).rglob("*.py")]
+    return [path for folder in LIBRARY for path in folder.rglob("*.py")]
 
 
 def _outside_cli(path: Path) -> bool:
-    return path.relative_to(REPO).parts[:2] != ("vc", "cli")
+    return not path.is_relative_to(PACKAGE / "cli")
 
 
 def _imported(tree: ast.AST) -> list[str]:
@@ -46,8 +51,16 @@ def _namespace_parameters(tree: ast.AST) -> list[str]:
 
 def test_the_library_knows_the_layout_it_checks():
     modules = [path for path in _modules() if _outside_cli(path)]
-    assert REPO / "stages" / "compile.py" in modules and REPO / "benchmarks" / "accuracy_vs_time.py" in modules
-    assert REPO / "vc" / "cli" / "compile.py" not in modules
+    assert PACKAGE / "stages" / "compile.py" in modules and REPO / "benchmarks" / "accuracy_vs_time.py" in modules
+    assert PACKAGE / "cli" / "compile.py" not in modules
+
+
+def test_the_folders_are_the_import_paths():
+    """``src/vc/deploy/decode.py`` is ``vc.deploy.decode``: no package-dir mapping, no code folder outside ``src``."""
+    assert {path.name for path in PACKAGE.iterdir() if (path / "__init__.py").is_file()} == SUBPACKAGES
+    assert "package-dir" not in (REPO / "pyproject.toml").read_text()
+    stray = sorted(path.parent.name for path in REPO.glob("*/__init__.py") if path.parent.name != "benchmarks")
+    assert stray == []
 
 
 def test_no_module_outside_the_commands_imports_one():

@@ -28,7 +28,7 @@ KNOBS, BASE = sweep_module.KNOBS, sweep_module.BASE
 
 def _sweep(work, **settings):
     """A sweep of the demo scene as ``main`` makes it, with the paired timing unless ``paired_runtime`` is False."""
-    arguments = {"work": work, "scene": REPO / "scenes/demo/scene.yaml", "quiet": True, "paired_runtime": True}
+    arguments = {"work": work, "scene": REPO / "examples/scenes/demo/scene.yaml", "quiet": True, "paired_runtime": True}
     return sweep_module.Sweep(sweep_module.SweepSettings(**arguments | settings))
 
 
@@ -76,7 +76,7 @@ def test_scene_overrides_plan_what_the_point_asks_for(tmp_path):
 def test_the_input_knob_plans_every_region_at_its_size(tmp_path):
     """A scene that sizes one region on its own (PETS09: r1 at 48 px, the others at 42) must not carry that size into
     the input knob's points, and the knob value equal to its target is then another compile, not the standard one."""
-    demo = REPO / "scenes/demo/scene.yaml"
+    demo = REPO / "examples/scenes/demo/scene.yaml"
     document = yaml.safe_load(demo.read_text())
     document["image"] = str((demo.parent / document["image"]).resolve())
     nearest = plan_regions(load_scene(demo))[-1].name
@@ -191,7 +191,7 @@ def test_the_overview_counts_each_compile_once_and_names_the_front(tmp_path):
 
 
 def test_a_value_the_knob_does_not_have_is_refused(monkeypatch, capsys, tmp_path):
-    monkeypatch.setattr(sys, "argv", ["accuracy_vs_time.py", "--scene", str(REPO / "scenes/demo/scene.yaml"),
+    monkeypatch.setattr(sys, "argv", ["accuracy_vs_time.py", "--scene", str(REPO / "examples/scenes/demo/scene.yaml"),
                                       "--knob", "width", "--value", "48", "--work", str(tmp_path)])
     with pytest.raises(SystemExit) as exit_info:
         sweep_module.main()
@@ -300,7 +300,7 @@ def test_a_sweep_keeps_what_another_sweep_reported_while_it_measured(tmp_path, m
         return _as_compiled(knob, value, 0.847, 0.72)
 
     monkeypatch.setattr(sweep_module.Sweep, "measure", measure_while_another_reports)
-    monkeypatch.setattr(sys, "argv", ["accuracy_vs_time.py", "--scene", str(REPO / "scenes/demo/scene.yaml"),
+    monkeypatch.setattr(sys, "argv", ["accuracy_vs_time.py", "--scene", str(REPO / "examples/scenes/demo/scene.yaml"),
                                       "--knob", "input", "--value", "40 px", "--work", str(tmp_path / "work"),
                                       "--out", str(out)])
     sweep_module.main()
@@ -386,7 +386,7 @@ def test_the_throughput_comparison_turns_photometric_matching_off_as_the_sweep_d
     from vc.scenes.schema import Lighting
 
     throughput = load_benchmark("render_throughput")
-    scene = load_scene(REPO / "scenes/demo/scene.yaml")
+    scene = load_scene(REPO / "examples/scenes/demo/scene.yaml")
     off = throughput.photometry_off(scene)
     assert off.lighting == Lighting() and off.effects == ["lens_distortion", "shadows"] and off.video_path is None
     assert off.effects == _sweep(REPO / "unused").photometry_overrides("off")["effects"]
@@ -409,10 +409,9 @@ def test_the_scene_copy_finds_the_video_of_the_scene(tmp_path):
     """The sweep writes the scene it compiles into its work folder: the files the original names (image, video)
     must still be found from there."""
     import yaml
+    from conftest import EXAMPLE_SCENES
 
-    from vc.scenes.loader import BUNDLED_SCENES
-
-    original = BUNDLED_SCENES / "demo"
+    original = EXAMPLE_SCENES / "demo"
     folder = tmp_path / "scene"
     folder.mkdir()
     document = yaml.safe_load((original / "scene.yaml").read_text())

@@ -43,7 +43,7 @@ from vc.deploy.heatmaps import (
     swap_pairs,
 )
 from vc.model.codec import CodecConfig, encode
-from vc.model.train import centre_map_settings
+from vc.model.trainer import centre_map_settings
 
 STRIDE = 4
 WIDTH, HEIGHT = 256, 192

@@ -18,6 +18,8 @@ from vc.evaluation.selftest import composite_frame
 from vc.render.dataset import open_region
 from vc.stages.config import CONFIG_FILE, PRESETS, CompileConfig, read_config
 
+DEMO = "examples/scenes/demo/scene.yaml"
+
 pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("anny")]
 TOY = {"render": {"samples": 20, "spp": 1, "shard_size": 10}, "train": {"steps": 2},
        "export": {"precision": "auto", "eval_samples": 10}, "self_test": {"frames": 2}}
@@ -31,7 +33,7 @@ def toy_config(tmp_path_factory) -> Path:
 @pytest.fixture(scope="module")
 def compiled(tmp_path_factory, toy_config) -> tuple:
     output = tmp_path_factory.mktemp("compile") / "demo"
-    code = compile_cli.main(["scenes/demo/scene.yaml", "-o", str(output), "--config", str(toy_config), "--quiet"])
+    code = compile_cli.main([DEMO, "-o", str(output), "--config", str(toy_config), "--quiet"])
     return code, output
 
 
@@ -56,7 +58,7 @@ def test_every_stage_runs_and_is_recorded(compiled):
 def test_a_second_run_skips_finished_stages(compiled, capsys):
     _, output = compiled
     before = (output / "bundle" / "manifest.json").stat().st_mtime_ns
-    assert compile_cli.main(["scenes/demo/scene.yaml", "-o", str(output), "--config", str(output / CONFIG_FILE),
+    assert compile_cli.main([DEMO, "-o", str(output), "--config", str(output / CONFIG_FILE),
                              "--quiet"]) == 0
     assert capsys.readouterr().out.count("done before") == 5
     assert (output / "bundle" / "manifest.json").stat().st_mtime_ns == before
@@ -68,7 +70,7 @@ def test_the_written_config_compiles_the_same_bytes(compiled, tmp_path):
     _, output = compiled
     assert read_config(output / CONFIG_FILE) == CompileConfig.model_validate(TOY)
     again = tmp_path / "again"
-    assert compile_cli.main(["scenes/demo/scene.yaml", "-o", str(again), "--config", str(output / CONFIG_FILE),
+    assert compile_cli.main([DEMO, "-o", str(again), "--config", str(output / CONFIG_FILE),
                              "--quiet"]) == 0
     renders = _digests(output / "renders", "shard-*/*")
     assert renders and renders == _digests(again / "renders", "shard-*/*")
@@ -120,7 +122,7 @@ def test_a_fine_centre_map_without_the_offsets_is_one_line_naming_the_field(tmp_
 def test_a_bad_config_file_is_one_line_naming_the_field(tmp_path, capsys):
     bad = tmp_path / "bad.yaml"
     bad.write_text(yaml.safe_dump({**TOY, "train": {"steps": -1}}))
-    assert compile_cli.main(["scenes/demo/scene.yaml", "-o", str(tmp_path / "out"), "--config", str(bad)]) == 2
+    assert compile_cli.main([DEMO, "-o", str(tmp_path / "out"), "--config", str(bad)]) == 2
     error = capsys.readouterr().err.strip()
     assert error.count("\n") == 0 and str(bad) in error and "train.steps" in error
     assert not (tmp_path / "out").exists()
@@ -131,7 +133,7 @@ def test_composed_frames_put_people_where_their_boxes_say(compiled):
     from vc.io import read_image
     from vc.scenes.loader import load_scene
 
-    background = read_image(load_scene("scenes/demo/scene.yaml").image_path)
+    background = read_image(load_scene(DEMO).image_path)
     regions = [open_region(output / "renders", name) for name in ("r0", "r1")]
     frame = composite_frame(background, regions, 0)
     changed = np.abs(frame.image.astype(int) - background).max(axis=2) > 0
@@ -155,7 +157,7 @@ def test_bring_your_own_camera_from_a_video_and_four_points(compiled, toy_config
     from vc.scenes.loader import load_scene
 
     _, output = compiled
-    demo = load_scene("scenes/demo/scene.yaml")
+    demo = load_scene(DEMO)
     regions = [open_region(output / "renders", name) for name in ("r0", "r1")]
     background = read_image(demo.image_path)
     writer = cv2.VideoWriter(str(tmp_path / "camera.avi"), cv2.VideoWriter_fourcc(*"MJPG"), 5, demo.camera.size)
@@ -199,7 +201,7 @@ def test_worker_processes_render_the_same_dataset(compiled, toy_config, tmp_path
     from vc.stages.render import prepare_render
 
     _, reference = compiled
-    job = prepare_render(Path("scenes/demo/scene.yaml"), read_config(toy_config).render)
+    job = prepare_render(Path(DEMO), read_config(toy_config).render)
     summary = job.run(tmp_path / "renders", show_progress=False, executor=LocalProcesses(2))
     assert summary["executor"] == "processes"
     assert _digests(tmp_path / "renders", "shard-*/*") == _digests(reference / "renders", "shard-*/*")
@@ -224,7 +226,7 @@ def test_a_ray_cluster_compiles_the_same_dataset_though_a_worker_dies_mid_shard(
     try:
         record: dict = {}
         worker = threading.Thread(target=lambda: record.update(compile_scene(
-            Path("scenes/demo/scene.yaml"), output, read_config(toy_config), show_progress=False, executor=executor)))
+            Path(DEMO), output, read_config(toy_config), show_progress=False, executor=executor)))
         worker.start()
         killed, deadline = [], time.monotonic() + 600
         while not killed and worker.is_alive() and time.monotonic() < deadline:

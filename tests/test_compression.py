@@ -16,7 +16,7 @@ REPO = Path(__file__).resolve().parents[1]
 
 @pytest.fixture(scope="module")
 def background() -> np.ndarray:
-    return read_image(REPO / "scenes/demo/background.png")
+    return read_image(REPO / "examples/scenes/demo/background.png")
 
 
 @pytest.mark.parametrize("subsampled", [True, False], ids=["4:2:0", "4:4:4"])

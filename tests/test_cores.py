@@ -8,7 +8,7 @@ import pytest
 import torch
 
 from vc.cores import usable_cores
-from vc.model.train import select_device
+from vc.model.trainer import select_device
 
 
 @pytest.mark.parametrize(("omp", "expected"), [("3", 3), ("4,2", 4), (" 5 ", 5)])

@@ -43,8 +43,8 @@ def test_a_process_count_needs_the_processes_executor_and_one_process_at_least()
 
 def test_scenes_compiled_together_need_their_own_names(tmp_path, capsys):
     copy = tmp_path / "copy"
-    shutil.copytree("scenes/demo", copy)
-    code = compile_cli.main(["scenes/demo/scene.yaml", str(copy / "scene.yaml"), "-o", str(tmp_path / "out"),
+    shutil.copytree("examples/scenes/demo", copy)
+    code = compile_cli.main(["examples/scenes/demo/scene.yaml", str(copy / "scene.yaml"), "-o", str(tmp_path / "out"),
                              "--budget", "quick"])
     error = capsys.readouterr().err
     assert code == 2 and error.count("\n") == 1 and "need their own names" in error
@@ -52,6 +52,6 @@ def test_scenes_compiled_together_need_their_own_names(tmp_path, capsys):
 
 
 def test_an_address_without_ray_executor_is_one_line(tmp_path, capsys):
-    code = compile_cli.main(["scenes/demo/scene.yaml", "-o", str(tmp_path / "out"), "--address", "auto"])
+    code = compile_cli.main(["examples/scenes/demo/scene.yaml", "-o", str(tmp_path / "out"), "--address", "auto"])
     error = capsys.readouterr().err
     assert code == 2 and "--address" in error and not (tmp_path / "out").exists()

@@ -33,7 +33,7 @@ from vc.model.codec import CodecConfig
 from vc.model.export import DeployedNetwork, bundle_files, export_onnx
 from vc.model.network import ScenePoseNet
 from vc.model.precision import auto_precision, crop_sized, to_fp16, to_int8
-from vc.model.train import RegionTrainer, TrainConfig, load_checkpoint
+from vc.model.trainer import RegionTrainer, TrainConfig, load_checkpoint
 from vc.render.dataset import open_region
 
 

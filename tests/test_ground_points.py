@@ -23,7 +23,7 @@ from vc.errors import InputError
 from vc.evaluation.mot import read_mot_boxes
 from vc.scenes.loader import load_scene
 
-SCENES = Path(__file__).resolve().parent.parent / "scenes"
+SCENES = Path(__file__).resolve().parent.parent / "examples" / "scenes"
 SIZE = (640, 480)
 GROUND = np.array([[-3.0, 0.0], [4.0, 1.0], [2.0, 8.0], [-5.0, 6.0], [0.0, 3.0], [6.0, 10.0]])
 

@@ -10,7 +10,7 @@ from datetime import UTC, datetime
 
 import numpy as np
 import pytest
-from conftest import REPO, load_benchmark
+from conftest import EXAMPLE_SCENES, load_benchmark
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -18,7 +18,7 @@ from vc.calibration.lighting import Illumination, illumination_from_strengths, s
 from vc.calibration.materials import PAVED_ALBEDO, VEGETATION_ALBEDO, ground_albedo_prior, luminance
 from vc.scenes.loader import load_scene
 
-DEMO = REPO / "scenes" / "demo" / "scene.yaml"
+DEMO = EXAMPLE_SCENES / "demo" / "scene.yaml"
 recovery = load_benchmark("lighting_recovery")
 
 
@@ -113,7 +113,7 @@ def test_pets09_is_overcast(pets_data) -> None:
     from vc.render.relight import estimate_scene_lighting
     from vc.scenes.regions import plan_regions
 
-    scene = load_scene(REPO / "scenes" / "pets09_s2l1" / "scene.yaml")
+    scene = load_scene(EXAMPLE_SCENES / "pets09_s2l1" / "scene.yaml")
     solution = estimate_scene_lighting(scene, plan_regions(scene))
     assert not solution.illumination.has_sun, solution.estimate.reason
     assert solution.illumination.sky_model == "cie_overcast"

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import EXAMPLE_SCENES
 
 from vc.deploy.heatmaps import CENTRE_CHANNEL, HANDEDNESS_CHANNELS, HEATMAP_CHANNELS, MASK_CHANNEL, PAIRS
 from vc.errors import InputError
@@ -17,7 +18,7 @@ from vc.render.dataset import CHECKSUMS, open_region
 from vc.render.job import RenderRequest, render_dataset
 from vc.render.plan import plan_render
 from vc.render.synthesis import SynthesisSettings
-from vc.scenes.loader import BUNDLED_SCENES, load_scene
+from vc.scenes.loader import load_scene
 from vc.scenes.regions import plan_regions
 
 pytestmark = pytest.mark.xdist_group("anny")
@@ -25,7 +26,7 @@ pytestmark = pytest.mark.xdist_group("anny")
 
 @pytest.fixture(scope="module")
 def small_dataset(tmp_path_factory, body_model) -> Path:
-    scene = load_scene(BUNDLED_SCENES / "demo" / "scene.yaml")
+    scene = load_scene(EXAMPLE_SCENES / "demo" / "scene.yaml")
     root = tmp_path_factory.mktemp("train-data")
     regions = plan_regions(scene)
     render_dataset(RenderRequest(scene=scene, regions=regions[:1], samples=6, settings=SynthesisSettings(spp=2),

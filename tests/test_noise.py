@@ -19,7 +19,7 @@ SRGB = Response("srgb")
 
 @pytest.fixture(scope="module")
 def background() -> np.ndarray:
-    return read_image(REPO / "scenes/demo/background.png")
+    return read_image(REPO / "examples/scenes/demo/background.png")
 
 
 def _slope(encoded: float) -> float:

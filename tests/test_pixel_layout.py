@@ -13,7 +13,7 @@ from vc.errors import InputError
 from vc.scenes.layout import Box, Cylinder
 from vc.scenes.loader import load_scene
 
-PETS = Path(__file__).resolve().parent.parent / "scenes" / "pets09_s2l1" / "scene.yaml"
+PETS = Path(__file__).resolve().parent.parent / "examples" / "scenes" / "pets09_s2l1" / "scene.yaml"
 
 
 def _pixels(camera, points: np.ndarray) -> list[list[float]]:

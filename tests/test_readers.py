@@ -7,7 +7,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
-from conftest import TOWN_CENTRE, town_centre_camera
+from conftest import EXAMPLE_SCENES, TOWN_CENTRE, town_centre_camera
 
 from vc.calibration.camera import Camera, look_at
 from vc.calibration.distortion import BrownConrady, TsaiRadial
@@ -44,9 +44,9 @@ def test_tsai_xml_matches_the_sensor_model(tmp_path):
 
 
 def test_pets_inline_scene_camera_equals_the_published_xml(pets_data):
-    from vc.scenes.loader import BUNDLED_SCENES, read_scene_file
+    from vc.scenes.loader import read_scene_file
 
-    spec = read_scene_file(BUNDLED_SCENES / "pets09_s2l1" / "scene.yaml").camera
+    spec = read_scene_file(EXAMPLE_SCENES / "pets09_s2l1" / "scene.yaml").camera
     xml = read_tsai_xml(pets_data / "View_001.xml")
     np.testing.assert_allclose(spec.K, xml.K, rtol=1e-12)
     np.testing.assert_allclose(spec.R, xml.R, atol=1e-12)

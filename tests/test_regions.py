@@ -114,9 +114,9 @@ def test_explicit_regions(tmp_path):
 
 
 def test_bundled_pets_scene_plans_three_depth_bands(pets_data):
-    from vc.scenes.loader import BUNDLED_SCENES
+    from conftest import EXAMPLE_SCENES
 
-    scene = load_scene(BUNDLED_SCENES / "pets09_s2l1" / "scene.yaml")
+    scene = load_scene(EXAMPLE_SCENES / "pets09_s2l1" / "scene.yaml")
     regions = plan_regions(scene)
     assert len(regions) == 3
     # People at the far end of the walkable area are smaller than at the near end by more than 2x.

@@ -17,6 +17,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
+from conftest import EXAMPLE_SCENES
 from pycocotools.coco import COCO
 from pycocotools.cocoeval import COCOeval
 from scene_factory import base_scene, write_scene
@@ -28,12 +29,12 @@ from vc.render import dataset, job
 from vc.render.job import RenderRequest, render_dataset
 from vc.render.plan import plan_render
 from vc.render.synthesis import RegionSynthesizer, SynthesisSettings
-from vc.scenes.loader import BUNDLED_SCENES, load_scene
+from vc.scenes.loader import load_scene
 from vc.scenes.regions import plan_regions
 
 pytestmark = pytest.mark.xdist_group("anny")
 
-DEMO = BUNDLED_SCENES / "demo" / "scene.yaml"
+DEMO = EXAMPLE_SCENES / "demo" / "scene.yaml"
 #: Samples per region for the label checks: about 300 people over the demo's two regions.
 LABEL_SAMPLES = 60
 

@@ -1,7 +1,7 @@
 """The appliance runtime installs alone: its wheel, in an empty venv, runs a bundle with numpy and onnxruntime.
 
 This replaces a blocklist ("the runtime must not import torch") with the stronger allowlist: the runtime wheel holds
-only the modules runtime/build.py stages, its install pulls only the distributions below, and running a bundle
+only the modules packaging/runtime/build.py stages, its install pulls only the distributions below, and running a bundle
 loads no third-party module but numpy and onnxruntime (and what onnxruntime itself loads).
 """
 
@@ -62,7 +62,7 @@ print(json.dumps({"people": len(people), "loaded": sorted(m for m in loaded if n
 def runtime_venv(tmp_path_factory) -> Path:
     """An empty venv with only the runtime wheel installed (numpy and onnxruntime pinned to this environment's
     versions, so that pip finds them in its cache)."""
-    build = load_script(REPO / "runtime" / "build.py", "runtime_build")
+    build = load_script(REPO / "packaging" / "runtime" / "build.py", "runtime_build")
     root = tmp_path_factory.mktemp("runtime")
     wheel = build.build_wheel(root / "dist")
     venv.create(root / "venv", with_pip=True)

@@ -4,15 +4,16 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from conftest import EXAMPLE_SCENES
 
 from vc.io import read_image
-from vc.scenes.loader import BUNDLED_SCENES, load_scene
+from vc.scenes.loader import load_scene
 from vc.scenes.regions import plan_regions
 
 
 def test_demo_scene_is_self_contained_and_in_view():
-    scene = load_scene(BUNDLED_SCENES / "demo" / "scene.yaml")
-    assert scene.image_path.parent == BUNDLED_SCENES / "demo"
+    scene = load_scene(EXAMPLE_SCENES / "demo" / "scene.yaml")
+    assert scene.image_path.parent == EXAMPLE_SCENES / "demo"
     camera = scene.camera
     for blocker in scene.layout.blockers():
         projection = camera.project(blocker.edges().reshape(-1, 3))
@@ -27,7 +28,7 @@ def test_demo_background_is_the_render_of_its_layout():
     from vc.render.background import render_background
     from vc.render.relight import explicit_illumination
 
-    scene = load_scene(BUNDLED_SCENES / "demo" / "scene.yaml")
+    scene = load_scene(EXAMPLE_SCENES / "demo" / "scene.yaml")
     rendered = render_background(scene.camera, scene.layout, explicit_illumination(scene.lighting), spp=128, seed=0)
     shipped = read_image(scene.image_path)
     # Same seed, same bytes on one machine; allow for LLVM code generation differing between CPUs.
@@ -35,7 +36,7 @@ def test_demo_background_is_the_render_of_its_layout():
 
 
 def test_pets_scene_loads_with_the_shared_background(pets_data):
-    scene = load_scene(BUNDLED_SCENES / "pets09_s2l1" / "scene.yaml")
+    scene = load_scene(EXAMPLE_SCENES / "pets09_s2l1" / "scene.yaml")
     assert scene.image_path == (pets_data / "background.png").resolve()
     assert scene.camera.size == (768, 576)
     names = [o.name for o in scene.layout.obstacles]

@@ -20,7 +20,7 @@ PIXEL_BLUR = 1.0 / math.sqrt(12.0)
 
 @pytest.fixture(scope="module")
 def background() -> np.ndarray:
-    return read_image(REPO / "scenes/demo/background.png")
+    return read_image(REPO / "examples/scenes/demo/background.png")
 
 
 def _blurred(image: np.ndarray, sigma: float) -> np.ndarray:

@@ -13,7 +13,7 @@ import torch
 from conftest import rewrite_checkpoint
 from dataset_factory import INPUT_SIZE, write_dataset
 
-import vc.model.train as vc_model_train
+import vc.model.trainer as vc_model_train
 from vc.cli.train import main as vc_train
 from vc.deploy.heatmaps import (
     CENTRE_OFFSET_CHANNELS,
@@ -29,7 +29,7 @@ from vc.model.config import DEFAULT_ARCH, network_config
 from vc.model.data import CropPolicy, TrainingStream
 from vc.model.loss import LossWeights, heatmap_terms, scene_pose_loss
 from vc.model.network import ScenePoseNet
-from vc.model.train import (
+from vc.model.trainer import (
     RegionTrainer,
     TrainConfig,
     checkpoint_path,

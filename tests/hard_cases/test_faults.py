@@ -24,12 +24,12 @@ import torch
 from conftest import write_compile_config
 
 from vc.errors import InputError
-from vc.model.train import checkpoint_path, load_checkpoint
+from vc.model.trainer import checkpoint_path, load_checkpoint
 from vc.render.dataset import CHECKSUMS, open_region
 
 pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("anny")]
 
-SCENE = "scenes/demo/scene.yaml"
+SCENE = "examples/scenes/demo/scene.yaml"
 #: Small, but with training long enough (two regions of 12 steps of 16 windows) to be killed in the middle.
 FAULT_BUDGET = {"render": {"samples": 12, "spp": 1, "shard_size": 4}, "train": {"steps": 12},
                 "export": {"precision": "fp32", "eval_samples": 8}, "self_test": {"frames": 2}}

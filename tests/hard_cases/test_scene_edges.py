@@ -80,7 +80,7 @@ def test_edge_cameras_compile_to_a_bundle_with_finite_labels_and_outputs(tmp_pat
     are the planned ones, and a self-test whose numbers are finite (the network is untrained: what matters here
     is that nothing non-finite reaches a label, a checkpoint or an output, not the accuracy)."""
     from vc.cli.compile import main as vc_compile
-    from vc.model.train import checkpoint_path, load_checkpoint
+    from vc.model.trainer import checkpoint_path, load_checkpoint
 
     scene = write_scene(tmp_path / "scene", PLANNED[case])
     config = write_compile_config(tmp_path, TOY)

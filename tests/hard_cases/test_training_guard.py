@@ -9,8 +9,8 @@ from conftest import SMALL
 from dataset_factory import write_dataset
 
 from vc.errors import StageError
-from vc.model import train as train_module
-from vc.model.train import RegionTrainer, TrainConfig, checkpoint_path, load_checkpoint
+from vc.model import trainer as train_module
+from vc.model.trainer import RegionTrainer, TrainConfig, checkpoint_path, load_checkpoint
 from vc.render.dataset import open_region
 
 

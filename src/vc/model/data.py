@@ -23,7 +23,7 @@ from vc.render.dataset import Sample, read_sample
 class Augmentation:
     """Photometric jitter for what the renderer does not vary (see the module docstring)."""
 
-    #: Read strictly when pydantic validates a stored training config (:func:`vc.model.train.read_train_config`).
+    #: Read strictly when pydantic validates a stored training config (:func:`vc.model.trainer.read_train_config`).
     __pydantic_config__ = {"extra": "forbid"}
 
     exposure: float = 0.25  # log2 range of the exposure multiplier (+-)
@@ -62,7 +62,7 @@ class CropPolicy:
     and runs on the whole input; windows keep every pixel where it was (no rescaling: the scene's perspective
     stays), and most are centred near a person so that steps are not spent on empty ground."""
 
-    #: Read strictly when pydantic validates a stored training config (:func:`vc.model.train.read_train_config`).
+    #: Read strictly when pydantic validates a stored training config (:func:`vc.model.trainer.read_train_config`).
     __pydantic_config__ = {"extra": "forbid"}
 
     size: tuple[int, int] = (256, 256)  # width, height; clipped to the region's input

@@ -209,7 +209,7 @@ def render_shard(task: ShardTask) -> dict:
 class RegionTask:
     dataset: Path
     region: str
-    config: Any  # vc.model.train.TrainConfig
+    config: Any  # vc.model.trainer.TrainConfig
     run: Path
     workers: int
     show_progress: bool = False
@@ -217,7 +217,7 @@ class RegionTask:
 
 def train_region(task: RegionTask):
     """Train (or resume) one region's network and evaluate it on its held-out renders."""
-    from vc.model.train import RegionTrainer, select_device
+    from vc.model.trainer import RegionTrainer, select_device
     from vc.render.dataset import open_region
 
     data = open_region(task.dataset, task.region, task.config.held_out_fraction)

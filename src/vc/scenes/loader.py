@@ -25,9 +25,6 @@ from vc.scenes.layout import Layout
 from vc.scenes.pixel_layout import PixelLayout
 from vc.scenes.schema import Lighting, Priors, RegionPlanSpec, SceneFile, SolarLighting
 
-#: Folder of the scenes shipped with the package (``demo``, ``pets09_s2l1``).
-BUNDLED_SCENES = Path(__file__).resolve().parent
-
 
 @dataclass(frozen=True)
 class Scene:

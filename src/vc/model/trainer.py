@@ -37,7 +37,7 @@ from vc.io import atomic_path
 from vc.model.codec import CodecConfig, expected_height_map
 from vc.model.config import DEFAULT_ARCH, NetworkConfig, network_config, stored_network_fields
 from vc.model.data import Augmentation, CropPolicy, TrainingStream
-from vc.model.evaluate import RegionEvaluation, evaluate_network
+from vc.model.held_out import RegionEvaluation, evaluate_network
 from vc.model.loss import LossWeights, scene_pose_loss
 from vc.model.network import ScenePoseNet
 from vc.render.dataset import RegionData
@@ -56,7 +56,7 @@ class TrainConfig:
     """Everything that decides a trained network besides the data: two runs with equal configs (and data) give
     the same weights."""
 
-    #: Read strictly when pydantic validates a stored training config (:func:`vc.model.train.read_train_config`).
+    #: Read strictly when pydantic validates a stored training config (:func:`vc.model.trainer.read_train_config`).
     __pydantic_config__ = {"extra": "forbid"}
 
     network: NetworkConfig = field(default_factory=lambda: network_config(DEFAULT_ARCH))

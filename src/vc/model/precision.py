@@ -30,7 +30,7 @@ from onnxruntime.quantization.shape_inference import quant_pre_process
 from onnxruntime.transformers.float16 import convert_float_to_float16
 
 from vc.deploy.decode import DecodeConfig
-from vc.model.evaluate import RegionEvaluation, evaluate_source
+from vc.model.held_out import RegionEvaluation, evaluate_source
 from vc.model.quantized_input import network_input_overrides, quantize_pixels_directly
 from vc.render.dataset import Sample, read_sample
 

@@ -19,7 +19,7 @@ from pathlib import Path
 from vc.errors import InputError
 from vc.evaluation.selftest import self_test_bundle
 from vc.io import write_json
-from vc.model.train import RegionResult
+from vc.model.trainer import RegionResult
 from vc.scenes.loader import load_scene
 from vc.scenes.regions import plan_regions
 from vc.stages.config import CONFIG_FILE, CompileConfig, write_config

@@ -38,7 +38,7 @@ class NetworkConfig:
     while keeping the receptive field larger than the biggest person a region shows.
     """
 
-    #: Read strictly when pydantic validates a stored training config (:func:`vc.model.train.read_train_config`).
+    #: Read strictly when pydantic validates a stored training config (:func:`vc.model.trainer.read_train_config`).
     __pydantic_config__ = {"extra": "forbid"}
 
     name: str

@@ -33,7 +33,7 @@ from vc.keypoints import COCO_KEYPOINTS, COCO_SKELETON_1BASED
 from vc.model.codec import expected_height_map
 from vc.model.network import ScenePoseNet
 from vc.model.precision import choose_precision
-from vc.model.train import Checkpoint, TrainConfig, load_checkpoint
+from vc.model.trainer import Checkpoint, TrainConfig, load_checkpoint
 from vc.render.dataset import RegionData, open_region
 from vc.versions import package_versions
 

@@ -43,7 +43,7 @@ class LossWeights:
     per-pixel MSE is about ten times smaller; ``pose`` makes up for that so that pose is not learned last.
     """
 
-    #: Read strictly when pydantic validates a stored training config (:func:`vc.model.train.read_train_config`).
+    #: Read strictly when pydantic validates a stored training config (:func:`vc.model.trainer.read_train_config`).
     __pydantic_config__ = {"extra": "forbid"}
 
     detection: float = 1.0

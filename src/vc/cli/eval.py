@@ -6,7 +6,7 @@
 
 For every selected frame each detector runs and is timed: the bundle (through :mod:`vc.deploy.runtime`, as the
 appliance runs it), OpenCV's HOG people detector, and optionally any YOLO-pose style ONNX model
-(:mod:`vc.evaluation.evaluate`). The bundle's people are tracked over every frame of the selected span (a
+(:mod:`vc.evaluation.real_video`). The bundle's people are tracked over every frame of the selected span (a
 video's frame rate is read from it; give ``--fps`` for a folder of frames), and their walking direction decides
 which way they face where the network cannot tell (:mod:`vc.deploy.tracking`). Writes
 ``OUT/metrics.json`` (AP50, milliseconds per frame, and for the bundle its operating point and recall by person
@@ -30,7 +30,8 @@ from vc.cli.common import handles_input_errors, positive_float, positive_int
 from vc.deploy.frames import FrameRange
 from vc.deploy.tracking import TrackingConfig
 from vc.errors import InputError
-from vc.evaluation.evaluate import (
+from vc.evaluation.misses import MissAnalysis
+from vc.evaluation.real_video import (
     HOG_UPSCALE,
     OURS,
     EvaluationReport,
@@ -38,7 +39,6 @@ from vc.evaluation.evaluate import (
     ExternalModel,
     evaluate_bundle,
 )
-from vc.evaluation.misses import MissAnalysis
 
 
 def _parser() -> argparse.ArgumentParser:

@@ -20,7 +20,7 @@ from vc import __version__
 from vc.cli.common import handles_input_errors, non_negative_int, positive_float, positive_int
 from vc.evaluation.metrics import Evaluation
 from vc.model.config import PRESETS
-from vc.model.train import RegionResult
+from vc.model.trainer import RegionResult
 from vc.stages.config import TrainSettings, train_settings
 from vc.stages.train import METRICS, TrainingJob, prepare_training
 

@@ -31,7 +31,7 @@ from vc.cli import export as export_cli
 from vc.cli import render as render_cli
 from vc.cli import train as train_cli
 from vc.cli.common import handles_input_errors, non_negative_int, positive_int
-from vc.model.train import RegionResult
+from vc.model.trainer import RegionResult
 from vc.stages.compile import SCENES_IN_FLIGHT, Reporter, compile_scene, compile_scenes, scene_outputs
 from vc.stages.config import DEFAULT_PRESET, PRESETS, CompileConfig, read_config, with_overrides
 from vc.stages.executors import EXECUTORS, make_executor

@@ -51,7 +51,7 @@ TRUNCATE_SIGMAS = 4.25
 
 @dataclass(frozen=True)
 class CodecConfig:
-    #: Read strictly when pydantic validates a stored training config (:func:`vc.model.train.read_train_config`).
+    #: Read strictly when pydantic validates a stored training config (:func:`vc.model.trainer.read_train_config`).
     __pydantic_config__ = {"extra": "forbid"}
 
     stride: int = 4  # output stride of the network

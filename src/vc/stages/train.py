@@ -12,7 +12,7 @@ import torch
 from vc.errors import InputError
 from vc.evaluation.plots import plot_precision_recall
 from vc.io import write_json
-from vc.model.train import RegionResult, TrainConfig, data_workers, select_device
+from vc.model.trainer import RegionResult, TrainConfig, data_workers, select_device
 from vc.render.dataset import read_manifest
 from vc.stages.config import TrainSettings
 from vc.stages.executors import Executor, InProcess, LocalProcesses, RegionTask, train_region

@@ -81,7 +81,7 @@ class DecodeConfig:
     """How heat maps become people; a bundle's manifest carries it per region (fields it lacks take these
     defaults). Lengths in person heights are fractions of the expected height at the person's centre."""
 
-    #: Read strictly when pydantic validates a stored training config (:func:`vc.model.train.read_train_config`).
+    #: Read strictly when pydantic validates a stored training config (:func:`vc.model.trainer.read_train_config`).
     __pydantic_config__ = {"extra": "forbid"}
 
     stride: int = 4

@@ -25,7 +25,7 @@ from vc.model.codec import CodecConfig
 from vc.model.config import DEFAULT_ARCH, network_config
 from vc.model.config import PRESETS as NETWORK_PRESETS
 from vc.model.loss import LossWeights
-from vc.model.train import TrainConfig, centre_map_settings, native_bf16
+from vc.model.trainer import TrainConfig, centre_map_settings, native_bf16
 from vc.render.job import DEFAULT_SHARD_SIZE
 from vc.render.synthesis import SynthesisSettings
 

@@ -1,1 +1,0 @@
-"""Scene descriptions: the YAML schema and loader, layout geometry, region planning, bundled scenes."""
