@@ -1,8 +1,9 @@
 """What each compile knob buys: accuracy against compile time and runtime, one knob at a time.
 
-    python benchmarks/accuracy_vs_time.py --scene SCENE --knob spp [samples ...] [--work DIR]
+    python -m benchmarks.accuracy_vs_time --scene SCENE --knob spp [samples ...] [--work DIR]
         [--knob width --value 16]   # one knob's chosen values; its others keep their earlier results
-        [--dev-video V --dev-gt GT.txt --dev-frames 1:400:5] [--out benchmarks/results] [--no-runtime]
+        [--dev-video V --dev-gt GT.txt --dev-frames 1:400:5] [--out benchmarks/results/accuracy_vs_time]
+        [--no-runtime]
 
 Every point is the standard compile (2 000 samples/region at 16 spp with effects, people placed alone, the ``fast``
 network, 1 800 steps, per-region models, fp32) with one knob changed (:data:`KNOBS`):
@@ -18,7 +19,7 @@ network, 1 800 steps, per-region models, fp32) with one knob changed (:data:`KNO
 - ``photometry`` (:data:`PHOTOMETRY`): the renders' light and camera — off (the default sun of an explicit
   ``lighting:`` block, no camera effects: every point measured before photometric matching), the light estimated
   from the background alone, or matched (light and every camera effect the scene calls for: the standard compile),
-  and matched less one camera effect at a time (``benchmarks/effects_ablation.py`` runs this knob and adds each
+  and matched less one camera effect at a time (``python -m benchmarks.effects_ablation`` runs this knob and adds each
   variant's render cost per sample);
 - ``groups``: people placed alone (every point's reference, whatever the scene's own ``priors.group_rate``) or
   with a group rate of 0.3 (a person starts a group of 2-4 walking abreast or in file; ``render/placement.py``),
@@ -80,6 +81,7 @@ import numpy as np  # noqa: E402
 import yaml  # noqa: E402
 from matplotlib.transforms import Bbox  # noqa: E402
 
+from benchmarks import results_folder  # noqa: E402
 from vc.deploy.heatmaps import ANATOMICAL_CHANNELS, HEATMAP_CHANNELS  # noqa: E402
 from vc.io import atomic_path, write_json  # noqa: E402
 from vc.stages.config import PRESETS, TRAINING_COMPUTE  # noqa: E402
@@ -719,7 +721,7 @@ def build_parser(knob: str | None = None) -> argparse.ArgumentParser:
                              "(about 55 min on 2 cores where the work dir lacks it); with --dev-video the point "
                              "keeps vc-eval's own ms/frame, and a later run without this flag adds the timing "
                              "while the work dir keeps its bundle")
-    parser.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
+    parser.add_argument("--out", type=Path, default=results_folder("accuracy_vs_time"))
     return parser
 
 

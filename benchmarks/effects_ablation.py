@@ -1,31 +1,30 @@
 """What realism costs and buys: the renders' light and camera effects switched off one at a time.
 
-    python benchmarks/effects_ablation.py --scene SCENE [--value VALUE ...] [--work DIR]
-        [--dev-video V --dev-gt GT.txt --dev-frames 1:400:5] [--out benchmarks/results] [--no-runtime]
+    python -m benchmarks.effects_ablation --scene SCENE [--value VALUE ...] [--work DIR]
+        [--dev-video V --dev-gt GT.txt --dev-frames 1:400:5] [--out benchmarks/results/accuracy_vs_time]
+        [--ablation-out benchmarks/results/effects_ablation] [--no-runtime]
 
-Runs the ``photometry`` knob of the accuracy-vs-time sweep (``benchmarks/accuracy_vs_time.py``, whose report it
-joins): the standard compile with photometric matching off (the default sun, no camera effects), with the light
-estimated from the background alone, matched (the standard compile), and matched less each camera effect. Each
-point is a full standard compile (about an hour on 2 cores), kept in ``--work`` and resumed like every sweep point.
-A value that renders what another does is that compile, measured once: matched less an effect the scene does not
-call for is matched, and matched less the scene's only camera effect is the light alone. "off" is the compile every
-other knob's points were measured with before photometric matching; the report takes it from there.
+Runs the ``photometry`` knob of the accuracy-vs-time sweep (:mod:`benchmarks.accuracy_vs_time`, whose report in
+``--out`` it joins): the standard compile with photometric matching off (the default sun, no camera effects), with
+the light estimated from the background alone, matched (the standard compile), and matched less each camera effect.
+Each point is a full standard compile (about an hour on 2 cores), kept in ``--work`` and resumed like every sweep
+point. A value that renders what another does is that compile, measured once: matched less an effect the scene does
+not call for is matched, and matched less the scene's only camera effect is the light alone. "off" is the compile
+every other knob's points were measured with before photometric matching; the report takes it from there.
 
 Beside the sweep's numbers (real and synthetic AP50, PCKh, compile minutes, runtime) it writes what each variant
 costs to render: ms per sample over the whole render, and the plan's measured cost of each effect that was on,
-to ``effects_ablation.json`` and ``effects_ablation.md`` in ``--out``.
+to ``effects_ablation.json`` and ``effects_ablation.md`` in ``--ablation-out``.
 """
 
 from __future__ import annotations
 
 import json
-import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import accuracy_vs_time as sweep  # noqa: E402
-
-from vc.io import atomic_path, write_json  # noqa: E402
+from benchmarks import accuracy_vs_time as sweep
+from benchmarks import results_folder
+from vc.io import atomic_path, write_json
 
 
 def render_costs(work: Path, point: sweep.Point) -> dict:
@@ -76,7 +75,10 @@ def measured_elsewhere(results: dict[str, list[dict]], value: str) -> dict | Non
 
 
 def main(argv: list[str] | None = None) -> None:
-    args = sweep.run(sweep.build_parser(knob="photometry"), argv)
+    parser = sweep.build_parser(knob="photometry")
+    parser.add_argument("--ablation-out", type=Path, default=results_folder("effects_ablation"),
+                        help="where this benchmark's own report goes (the sweep's goes to --out)")
+    args = sweep.run(parser, argv)
     results = json.loads((args.out / "accuracy_vs_time.json").read_text())
     by_value = {point["value"]: point for point in results.get("photometry", [])}
     rows = []
@@ -85,7 +87,7 @@ def main(argv: list[str] | None = None) -> None:
         if point is not None:
             rendered_as = sweep.KNOBS["photometry"][point.get("same_as", value)]
             rows.append({**point, **render_costs(args.work, rendered_as)})
-    report(rows, args.out)
+    report(rows, args.ablation_out)
 
 
 if __name__ == "__main__":

@@ -1,6 +1,6 @@
 """How well the light is recovered from one background: the demo layout rendered under known suns and skies.
 
-    python benchmarks/lighting_recovery.py [--scale 0.5] [--out benchmarks/results]
+    python -m benchmarks.lighting_recovery [--scale 0.5] [--out benchmarks/results/lighting_recovery]
 
 Each case renders the demo scene's layout through its camera (scaled by ``--scale``) with Mitsuba under a known
 sun and sky, then estimates the light from that image alone (:func:`vc.calibration.lighting.estimate_lighting`)
@@ -15,6 +15,7 @@ import argparse
 import time
 from pathlib import Path
 
+from benchmarks import EXAMPLE_SCENES, results_folder
 from vc.calibration.lighting import Illumination, LightingEstimate, estimate_lighting, ground_view
 from vc.calibration.lighting import illumination_from_strengths as light
 from vc.calibration.materials import luminance
@@ -23,9 +24,6 @@ from vc.io import write_json
 from vc.render.background import render_background
 from vc.render.relight import layout_solids, sun_angle_error_deg
 from vc.scenes.loader import Scene, load_scene
-
-#: The repository's example scenes (data, not part of the package).
-EXAMPLE_SCENES = Path(__file__).resolve().parents[1] / "examples" / "scenes"
 
 #: (name, true light): the demo's own afternoon sun, a high one, a low one against the camera, an overcast sky.
 CASES: dict[str, Illumination] = {
@@ -58,7 +56,7 @@ def recover(scene: Scene, truth: Illumination, scale: float = 0.5, spp: int = 16
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--scale", type=float, default=0.5, help="camera scale (default 0.5: 480x270)")
-    parser.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
+    parser.add_argument("--out", type=Path, default=results_folder("lighting_recovery"))
     args = parser.parse_args()
     scene = load_scene(EXAMPLE_SCENES / "demo" / "scene.yaml")
     rows = []

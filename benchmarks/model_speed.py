@@ -1,12 +1,12 @@
 """ScenePoseNet speed per architecture: training images/s and inference ms per region input.
 
-    python benchmarks/model_speed.py [--arch fast fast-dw ...] [--crop 256 256] [--batch 16] [--steps 4]
-                                     [--inputs 1088x272 704x320] [--out benchmarks/results]
-    python benchmarks/model_speed.py --compute [--threads N] [--out ...]
+    python -m benchmarks.model_speed [--arch fast fast-dw ...] [--crop 256 256] [--batch 16] [--steps 4]
+                                     [--inputs 1088x272 704x320] [--out benchmarks/results/model_speed]
+    python -m benchmarks.model_speed --compute [--threads N] [--out ...]
 
 Training is what ``vc-train`` does per step (forward, the paper's loss with intermediate supervision, backward,
 AdamW) on ``--crop`` windows; inference is one eval-mode forward pass of a whole region input in PyTorch (the
-exported ONNX runtime is measured by ``benchmarks/runtime_latency.py``). All cores of this machine (2 on the
+exported ONNX runtime is measured by :mod:`benchmarks.runtime_latency`). All cores of this machine (2 on the
 reference machine), median of ``--steps`` timed repetitions after one warm-up. The paper architecture (full
 resolution, dense 17x17 at 128 channels) would take many minutes per step at these sizes: it is timed once, on
 :data:`PAPER_WORKLOAD` for training and on that window for inference. Writes ``model_speed.json``,
@@ -32,6 +32,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import torch  # noqa: E402
 
+from benchmarks import results_folder  # noqa: E402
 from vc.cores import cpu_facts, usable_cores  # noqa: E402
 from vc.io import write_json  # noqa: E402
 from vc.model.config import DEFAULT_ARCH, PRESETS, NetworkConfig  # noqa: E402
@@ -141,7 +142,7 @@ def main() -> None:
     parser.add_argument("--batch", type=int, default=16)
     parser.add_argument("--steps", type=int, default=4, help="timed repetitions (the paper: 1)")
     parser.add_argument("--inputs", nargs="+", default=DEFAULT_INPUTS, help="region inputs WxH")
-    parser.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
+    parser.add_argument("--out", type=Path, default=results_folder("model_speed"))
     parser.add_argument("--compute", action="store_true", help="compare the trainer's compute settings instead")
     parser.add_argument("--threads", type=int, default=usable_cores(), help="torch threads (default: all usable)")
     args = parser.parse_args()

@@ -1,9 +1,9 @@
 """Render throughput: labelled samples per second per region and spp, and where the time goes.
 
-    python benchmarks/render_throughput.py [--scene examples/scenes/pets09_s2l1/scene.yaml] [--spp 4 16 64]
-                                           [--samples 40] [--warmup 5] [--out benchmarks/results]
-    python benchmarks/render_throughput.py --photometry [--scene ...] [--samples 40] [--out DIR]
-    python benchmarks/render_throughput.py --processes 12 [--scene ...] [--samples 400] [--out DIR]
+    python -m benchmarks.render_throughput [--scene examples/scenes/pets09_s2l1/scene.yaml] [--spp 4 16 64]
+                                           [--samples 40] [--warmup 5] [--out benchmarks/results/render_throughput]
+    python -m benchmarks.render_throughput --photometry [--scene ...] [--samples 40] [--out DIR]
+    python -m benchmarks.render_throughput --processes 12 [--scene ...] [--samples 400] [--out DIR]
 
 Each sample is what ``vc-render`` writes: people sampled and posed, rendered, composited, labelled, and the
 image and mask PNGs and the shard's annotations written by the dataset writer (to a temporary folder). One
@@ -41,6 +41,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from benchmarks import EXAMPLE_SCENES, display_path, results_folder  # noqa: E402
 from vc.cores import cpu_facts  # noqa: E402
 from vc.io import write_json  # noqa: E402
 from vc.render import dataset  # noqa: E402
@@ -50,9 +51,6 @@ from vc.render.synthesis import RegionSynthesizer, SynthesisSettings  # noqa: E4
 from vc.scenes.loader import Scene, load_scene  # noqa: E402
 from vc.scenes.regions import plan_regions  # noqa: E402
 from vc.scenes.schema import Lighting  # noqa: E402
-
-#: The repository's example scenes (data, not part of the package).
-EXAMPLE_SCENES = Path(__file__).resolve().parents[1] / "examples" / "scenes"
 
 REFERENCE_SPP = 16
 
@@ -143,15 +141,21 @@ def compare_processes(scene_path: Path, counts: list[int], samples: int, scratch
     return rows
 
 
-def _write_processes(rows: list[dict], scene_path: Path, out: Path) -> None:
+def processes_report(rows: list[dict], scene_path: Path) -> dict:
+    """The ``--processes`` rows with what they were measured on: the scene, the CPU and Mitsuba's variant."""
     from vc.render.mitsuba_setup import mitsuba
 
-    variant, machine = mitsuba().variant(), cpu_facts()[0]
-    write_json(out / "render_throughput_processes.json", {"scene": str(scene_path), "machine": machine,
-                                                          "mitsuba_variant": variant, "shard_size": PROCESS_SHARD,
-                                                          "rows": rows})
-    lines = [f"Render stage of {scene_path}, 16 spp, {rows[0]['samples']} samples over its regions, on {machine} "
-             f"with Mitsuba `{variant}` (`python benchmarks/render_throughput.py --processes ...`).", "",
+    return {"scene": display_path(scene_path), "machine": cpu_facts()[0], "mitsuba_variant": mitsuba().variant(),
+            "shard_size": PROCESS_SHARD, "rows": rows}
+
+
+def write_processes(report: dict, out: Path) -> None:
+    """``render_throughput_processes.json`` and ``.md`` from :func:`processes_report`'s ``report``."""
+    write_json(out / "render_throughput_processes.json", report)
+    rows = report["rows"]
+    lines = [f"Render stage of {report['scene']}, 16 spp, {rows[0]['samples']} samples over its regions, on "
+             f"{report['machine']} with Mitsuba `{report['mitsuba_variant']}` "
+             "(`python -m benchmarks.render_throughput --processes ...`).", "",
              "| renderers | seconds | samples/s | against one process |", "|---|---|---|---|"]
     lines += [f"| {r['processes']} ({r['executor']}) | {r['seconds']} | {r['samples_per_second']} | "
               f"{r['ratio_to_one_process']}x |" for r in rows]
@@ -203,7 +207,7 @@ def main() -> None:
     parser.add_argument("--spp", type=int, nargs="+", default=[4, 16, 64])
     parser.add_argument("--samples", type=int, default=40)
     parser.add_argument("--warmup", type=int, default=5)
-    parser.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
+    parser.add_argument("--out", type=Path, default=results_folder("render_throughput"))
     parser.add_argument("--photometry", action="store_true",
                         help="compare photometric matching off and matched at the reference spp instead")
     parser.add_argument("--processes", type=int, nargs="+", metavar="N",
@@ -214,7 +218,7 @@ def main() -> None:
         args.out.mkdir(parents=True, exist_ok=True)
         with tempfile.TemporaryDirectory(prefix="vc-render-processes-") as scratch:
             rows = compare_processes(args.scene, args.processes, args.samples, Path(scratch))
-        _write_processes(rows, args.scene, args.out)
+        write_processes(processes_report(rows, args.scene), args.out)
         return
     scene = load_scene(args.scene)
     start = time.perf_counter()

@@ -1,32 +1,30 @@
 """Milliseconds per real frame of several bundles timed frame by frame in one process: each frame is run by every
 bundle in turn, the order rotated from frame to frame, regions in parallel.
 
-    python benchmarks/runtime_interleaved.py LABEL=BUNDLE LABEL=BUNDLE [...] --video V [--frames 1:400:5]
+    python -m benchmarks.runtime_interleaved LABEL=BUNDLE LABEL=BUNDLE [...] --video V [--frames 1:400:5]
         [--threads 2] [--passes 4] [--out FILE.json]
 
-The first bundle is the reference. Where ``runtime_frame_time.py`` times one bundle per process (alternate the
-processes to compare), here a shared machine whose speed drifts slows every bundle alike within a few frames, so
-the ratios hold even when the absolute times do not (benchmarks/results/input_mixed_pets09.md). Reports the median
-of each bundle's frame times, their ratio to the reference's, and the median of the per-frame ratios (the two
-differ where a bundle's frame times spread: the regions' threads of a bundle finishing close together make a frame
-whichever of them is late). Prints one JSON line; with ``--out`` appends it to that file.
+The first bundle is the reference. Timed in one process, frame by frame, the bundles share the drift of a shared
+machine's speed: it slows every bundle alike within a few frames, so the ratios hold even when the absolute times
+do not, where bundles timed in separate processes must be alternated to compare
+(``experiments/2026-11-27-input-size/results/input_mixed_pets09.md``). Reports the median of each bundle's frame
+times, their ratio to the reference's, and the median of the per-frame ratios (the two differ where a bundle's frame
+times spread: the regions' threads of a bundle finishing close together make a frame whichever of them is late).
+Prints one JSON line; with ``--out`` appends it to that file.
 """
 
 from __future__ import annotations
 
 import argparse
-import sys
+import json
 import time
 from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from runtime_frame_time import report  # noqa: E402
-
-from vc.deploy.frames import FrameRange, FrameSource  # noqa: E402
-from vc.deploy.runtime import Runtime  # noqa: E402
-from vc.errors import InputError  # noqa: E402
+from vc.deploy.frames import FrameRange, FrameSource
+from vc.deploy.runtime import Runtime
+from vc.errors import InputError
 
 WARM_UP_FRAMES = 3
 
@@ -62,6 +60,15 @@ def summary(labels: list[str], seconds: np.ndarray) -> dict:
                                                                                            strict=True)},
             "median_of_frame_ratios": {label: round(float(np.median(row / seconds[0])), 3)
                                        for label, row in zip(labels, seconds, strict=True)}}
+
+
+def report(result: dict, out: Path | None) -> None:
+    """Prints ``result`` as one JSON line and, with ``out``, appends that line to it (runs accumulate in one file)."""
+    line = json.dumps(result)
+    print(line)
+    if out is not None:
+        with out.open("a") as file:
+            file.write(line + "\n")
 
 
 def _labelled(text: str) -> tuple[str, Path]:

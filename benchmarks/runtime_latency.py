@@ -1,8 +1,8 @@
 """Bundle runtime latency and memory per precision, as an appliance runs it: numpy + onnxruntime only.
 
-    python benchmarks/runtime_latency.py --run RUN --scene SCENE [--baseline-run RUN] [--precision fp32 fp16 int8]
+    python -m benchmarks.runtime_latency --run RUN --scene SCENE [--baseline-run RUN] [--precision fp32 fp16 int8]
                                          [--frames 30] [--video V [--video-frames 1:400:5]] [--threads 2]
-                                         [--out benchmarks/results]
+                                         [--out benchmarks/results/runtime_latency]
 
 For each precision the finished vc-train RUN is exported to a temporary bundle (``vc.model.export``; int8
 calibrated on the run's training renders) and measured in a fresh process, so that its peak resident memory is its
@@ -10,7 +10,7 @@ own: milliseconds per full frame (every region: crop, onnxruntime, decode, owner
 ``--frames`` frames composed of held-out renders on the scene's background, see :mod:`vc.evaluation.selftest`, after one
 warm-up frame), sequentially with ``--threads`` intra-op threads and with the regions in parallel, and per region
 (network and decoding alone). Writes ``runtime_latency.json``, ``runtime_latency.md`` and ``runtime_latency.png``
-to ``--out``.
+to ``--out``; the report names the runs by their folders' names (or their paths inside the repository).
 
 ``--video``: time the first ``--frames`` real frames of the camera's video (``--video-frames`` selects them)
 instead of composed ones, which hold more people than a real frame and so weigh decoding more.
@@ -37,6 +37,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+
+from benchmarks import REPOSITORY, display_path, results_folder  # noqa: E402
 
 PRECISIONS = ("fp32", "fp16", "int8")
 
@@ -98,8 +100,9 @@ def _frames(run: Path, scene: Path, count: int) -> np.ndarray:
 
 def _measure_in_fresh_process(bundle: Path, frames_path: Path, threads: int) -> dict:
     """:func:`measure` in a new interpreter, so that the peak resident memory is this bundle's own."""
-    output = subprocess.run([sys.executable, __file__, "--threads", str(threads), "--measure", str(bundle),
-                             str(frames_path)], capture_output=True, text=True, check=True).stdout
+    command = [sys.executable, "-m", "benchmarks.runtime_latency", "--threads", str(threads), "--measure", str(bundle),
+               str(frames_path)]
+    output = subprocess.run(command, capture_output=True, text=True, check=True, cwd=REPOSITORY).stdout
     return json.loads(output.strip().splitlines()[-1])
 
 
@@ -182,7 +185,7 @@ def main() -> None:
     parser.add_argument("--video", type=Path, help="time real frames of this video (or folder of images)")
     parser.add_argument("--video-frames", default="1:400:5", help="which frames of --video (first:last:step)")
     parser.add_argument("--threads", type=int, default=2)
-    parser.add_argument("--out", type=Path, default=Path(__file__).parent / "results")
+    parser.add_argument("--out", type=Path, default=results_folder("runtime_latency"))
     parser.add_argument("--measure", nargs=2, type=Path, metavar=("BUNDLE", "FRAMES"), help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.measure:
@@ -203,7 +206,7 @@ def main() -> None:
         parser.error(f"--video-frames: {error}")
     frames = (_frames(args.run, args.scene, args.frames) if args.video is None
               else _video_frames(args.video, args.video_frames, args.frames))
-    results = {"run": str(args.run), "threads": args.threads, "frames": len(frames),
+    results = {"run": display_path(args.run), "threads": args.threads, "frames": len(frames),
                "frames_from": "composed frames" if args.video is None
                else f"real frames ({args.video.name}, {args.video_frames})",
                "frame_size": [frames.shape[2], frames.shape[1]], "onnxruntime": onnxruntime.__version__,
@@ -226,7 +229,7 @@ def main() -> None:
                 print(f"{precision} {role}: {row['frame_ms']:.1f} ms/frame ({row['frame_ms_parallel_regions']:.1f} "
                       f"with regions in parallel), peak {row['peak_rss_mb']:.0f} MB", flush=True)
     if args.baseline_run is not None:
-        results["baseline_run"] = str(args.baseline_run)
+        results["baseline_run"] = display_path(args.baseline_run)
         results["vs_baseline"] = {
             precision: {key: row[key] / results["baseline"][precision][key]
                         for key in ("frame_ms", "frame_ms_parallel_regions")}

@@ -35,11 +35,6 @@ def load_script(path: Path, name: str) -> ModuleType:
     return module
 
 
-def load_benchmark(name: str) -> ModuleType:
-    """The script ``benchmarks/<name>.py`` as a module."""
-    return load_script(REPO / "benchmarks" / f"{name}.py", name)
-
-
 def write_compile_config(folder: Path, settings: dict) -> Path:
     """A ``vc-compile --config`` file holding ``settings`` (sections of :class:`vc.stages.config.CompileConfig`)."""
     import yaml

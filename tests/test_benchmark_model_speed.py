@@ -3,11 +3,9 @@
 from __future__ import annotations
 
 import pytest
-from conftest import load_benchmark
 
+from benchmarks import model_speed
 from vc.model.config import PRESETS
-
-model_speed = load_benchmark("model_speed")
 
 
 @pytest.mark.parametrize("arch", ["fast", "fast-dw", "dense9"])

@@ -1,4 +1,5 @@
-"""The accuracy-vs-time sweep's bookkeeping: which points share renders and runs, and the scene overrides."""
+"""The benchmarks' bookkeeping and reports: the accuracy-vs-time sweep (which points share renders and runs, the
+scene overrides), the effects ablation, render throughput, runtime latency and interleaved runtime."""
 
 from __future__ import annotations
 
@@ -13,16 +14,19 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 import yaml
-from conftest import REPO, load_benchmark
+from conftest import REPO
 from matplotlib.transforms import Bbox
 
+from benchmarks import RESULTS, display_path, results_folder
+from benchmarks import accuracy_vs_time as sweep_module
+from benchmarks import effects_ablation as ablation
+from benchmarks import render_throughput as throughput
+from benchmarks import runtime_interleaved as interleaved
+from benchmarks import runtime_latency as latency
 from vc.deploy.bundle import load_bundle
-from vc.evaluation.renders import asked_for
-from vc.render.dataset import open_region, read_sample
 from vc.scenes.loader import load_scene
 from vc.scenes.regions import plan_regions
 
-sweep_module = load_benchmark("accuracy_vs_time")
 KNOBS, BASE = sweep_module.KNOBS, sweep_module.BASE
 
 
@@ -348,7 +352,6 @@ def test_photometry_overrides_switch_the_light_and_the_camera_effects(tmp_path):
 
 
 def test_the_effects_ablation_reports_what_each_variant_costs(tmp_path):
-    ablation = load_benchmark("effects_ablation")
     rows = [{"value": "off", "real_ap50": 0.87, "synthetic_ap50": 0.96, "synthetic_pckh": 0.68,
              "compile_minutes": 54.0, "render_ms_per_sample": 72.0, "effects_on": {"shadows": None}},
             {"value": "matched", "synthetic_ap50": 0.95, "synthetic_pckh": 0.66, "compile_minutes": 56.0,
@@ -363,7 +366,6 @@ def test_the_effects_ablation_reports_what_each_variant_costs(tmp_path):
 def test_the_effects_ablation_takes_off_from_the_sweep_and_names_a_value_that_renders_as_another(tmp_path, monkeypatch):
     """"off" is the compile every knob was measured with before photometric matching (stored without the field):
     the ablation reports it from there rather than compiling it again; "no sensor_noise" renders as "light"."""
-    ablation = load_benchmark("effects_ablation")
     off = _as_compiled("seed", "0", 0.870, 1.0)
     off["point"] = {key: value for key, value in off["point"].items() if key != "photometry"}
     light = _as_compiled("photometry", "light", 0.880, 1.0)
@@ -372,12 +374,23 @@ def test_the_effects_ablation_takes_off_from_the_sweep_and_names_a_value_that_re
     out = tmp_path / "results"
     out.mkdir()
     (out / "accuracy_vs_time.json").write_text(json.dumps(results))
-    monkeypatch.setattr(ablation.sweep, "run", lambda parser, argv: argparse.Namespace(out=out, work=tmp_path))
+    ablation_out = tmp_path / "ablation"
+
+    def measured(parser: argparse.ArgumentParser, argv: list[str]) -> argparse.Namespace:
+        # by default the sweep's report and the ablation's each go to their own benchmark's folder
+        defaults = parser.parse_args(["--scene", "scene.yaml"])
+        assert (defaults.out, defaults.ablation_out) == (results_folder("accuracy_vs_time"),
+                                                         results_folder("effects_ablation"))
+        return argparse.Namespace(out=out, work=tmp_path, ablation_out=ablation_out)
+
+    monkeypatch.setattr(ablation.sweep, "run", measured)
     ablation.main([])
-    rows = json.loads((out / "effects_ablation.json").read_text())
+    assert sorted(path.name for path in ablation_out.iterdir()) == ["effects_ablation.json", "effects_ablation.md"]
+    assert sorted(path.name for path in out.iterdir()) == ["accuracy_vs_time.json"]  # the sweep's report, read only
+    rows = json.loads((ablation_out / "effects_ablation.json").read_text())
     assert [(row["value"], row["real_ap50"]) for row in rows] == [("off", 0.870), ("light", 0.880),
                                                                   ("matched", 0.891), ("no sensor_noise", 0.880)]
-    table = (out / "effects_ablation.md").read_text()
+    table = (ablation_out / "effects_ablation.md").read_text()
     assert "default sun, no camera effects (the sweep's point seed 0: the same compile)" in table
     assert "matched less sensor noise: the same renders as light (this scene calls for no more)" in table
 
@@ -385,24 +398,10 @@ def test_the_effects_ablation_takes_off_from_the_sweep_and_names_a_value_that_re
 def test_the_throughput_comparison_turns_photometric_matching_off_as_the_sweep_does():
     from vc.scenes.schema import Lighting
 
-    throughput = load_benchmark("render_throughput")
     scene = load_scene(REPO / "examples/scenes/demo/scene.yaml")
     off = throughput.photometry_off(scene)
     assert off.lighting == Lighting() and off.effects == ["lens_distortion", "shadows"] and off.video_path is None
     assert off.effects == _sweep(REPO / "unused").photometry_overrides("off")["effects"]
-
-
-def test_the_appearance_gap_measures_people_against_the_ground_behind_them():
-    gap = load_benchmark("appearance_gap")
-    background = np.full((100, 100, 3), 0.4, np.float32)
-    image = background.copy()
-    image[20:80, 40:60] = [0.05, 0.05, 0.10]  # a dark, bluish person in a 60 px box
-    rows = gap.measure_people(image, background, np.array([[40, 20, 20, 60], [90, 90, 20, 60], [10, 10, 5, 12]]))
-    assert rows.shape == (1, 3)  # the box leaving the image and the one under 20 px are skipped
-    level, contrast, saturation = rows[0]
-    assert level == pytest.approx(0.2126 * 0.05 + 0.7152 * 0.05 + 0.0722 * 0.10, rel=1e-3)
-    assert contrast == pytest.approx(np.log2(level / 0.4), rel=1e-3)
-    assert saturation == pytest.approx(0.5, rel=1e-3)
 
 
 def test_the_scene_copy_finds_the_video_of_the_scene(tmp_path):
@@ -425,26 +424,6 @@ def test_the_scene_copy_finds_the_video_of_the_scene(tmp_path):
     assert copied["video"] == str((folder / "frames").resolve())
 
 
-def test_render_comparison_counts_the_pixels_two_backends_disagree_on(tmp_path):
-    """benchmarks/device/compare_renders.py: the GPU check's verdict on two renders of the same samples."""
-    from conftest import load_script
-
-    from vc.io import write_image
-
-    compare = load_script(REPO / "benchmarks" / "device" / "compare_renders.py", "compare_renders").compare
-    rng = np.random.default_rng(0)
-    image = rng.integers(0, 256, (20, 50, 3), dtype=np.uint8)
-    off = image.copy()
-    off[0, :10] = np.clip(off[0, :10].astype(int) + 3, 0, 255)  # 10 pixels more than 2 levels apart...
-    off[1] ^= 1  # ...and a row within rounding
-    for root, picture in ((tmp_path / "a", image), (tmp_path / "b", off)):
-        write_image(root / "r0" / "shard-00000" / "images" / "000000.png", picture)
-    row = compare(tmp_path / "a", tmp_path / "b")["r0"]
-    changed = (np.abs(off.astype(int) - image).max(axis=-1) > 2).sum()
-    assert row["images"] == 1 and changed >= 1
-    assert row["share_over_2_levels"] == pytest.approx(changed / 1000, abs=1e-5)
-
-
 def _latency_row(frame_ms: float, rss_mb: float) -> dict:
     return {"frame_ms": frame_ms, "frame_ms_parallel_regions": frame_ms * 0.75, "peak_rss_mb": rss_mb,
             "model_load_rss_mb": 0.0,
@@ -453,7 +432,6 @@ def _latency_row(frame_ms: float, rss_mb: float) -> dict:
 
 
 def test_runtime_latency_reports_a_candidate_as_ratios_to_the_baseline_measured_beside_it(tmp_path):
-    latency = load_benchmark("runtime_latency")
     # two rounds per bundle: times averaged, memory the larger
     baseline = latency._mean_of_rounds([_latency_row(20.0, 500), _latency_row(22.0, 520)])
     run = latency._mean_of_rounds([_latency_row(13.0, 480), _latency_row(14.0, 470)])
@@ -470,6 +448,16 @@ def test_runtime_latency_reports_a_candidate_as_ratios_to_the_baseline_measured_
     assert json.loads((tmp_path / "runtime_latency.json").read_text())["vs_baseline"]["int8"]["frame_ms"] < 1
 
 
+def test_runtime_latency_measures_a_bundle_in_a_fresh_interpreter(bundle, tmp_path):
+    """The peak memory is the bundle's own only in a process that loaded nothing else: the module runs itself."""
+    width, height = load_bundle(bundle).frame_size
+    frames = tmp_path / "frames.npy"
+    np.save(frames, np.random.default_rng(0).integers(0, 255, (2, height, width, 3), np.uint8))
+    measured = latency._measure_in_fresh_process(bundle, frames, threads=1)
+    assert measured["frame_ms"] > 0 and measured["frame_ms_parallel_regions"] > 0 and measured["peak_rss_mb"] > 0
+    assert set(measured["regions"]) == {entry.name for entry in load_bundle(bundle).regions}
+
+
 def test_a_setting_measured_with_several_seeds_is_one_choice_at_its_mean():
     """One lucky seed of a setting is not the best compile for its time: its seeds' mean is."""
     results = {"precision": [_as_compiled("precision", "int8", 0.872, 0.50)],
@@ -482,27 +470,7 @@ def test_a_setting_measured_with_several_seeds_is_one_choice_at_its_mean():
     assert winter["seeds"] == 3
 
 
-def test_the_runtime_profile_accounts_for_each_region_and_the_whole_frame(bundle, tmp_path):
-    """Every region's network and decoding, its ONNX operators (the in-graph resize among them where the crop is
-    not the input size) and the tracker are timed, and the report names them."""
-    profile = load_benchmark("runtime_profile")
-    width, height = load_bundle(bundle).frame_size
-    frames = [np.random.default_rng(k).integers(0, 255, (height, width, 3), np.uint8) for k in range(4)]
-    result = profile.profile(bundle, frames, threads=2, fps=10.0)
-    assert result["frames"] == 4 and result["parallel_ms"] > 0 and result["in_turn_ms"] > 0
-    assert result["tracker_ms"] >= 0
-    for name, region in result["regions"].items():
-        assert region["network_ms"] > 0 and region["decode_ms"] > 0
-        operators = region["operators_ms_one_thread"]
-        assert "Conv" in " ".join(operators) and all(ms >= 0 for ms in operators.values())
-        assert ("Resize" in operators) == (region["crop"] != region["input"]), name
-    result["machine"] = "test"
-    report = profile.report(result, bundle, tmp_path / "clip.avi")
-    assert all(f"| {name} |" in report for name in result["regions"]) and "clip.avi" in report
-
-
 def test_interleaved_runtime_times_every_frame_with_every_bundle_and_reads_ratios_two_ways(bundle):
-    interleaved = load_benchmark("runtime_interleaved")
     width, height = load_bundle(bundle).frame_size
     frames = [np.random.default_rng(k).integers(0, 255, (height, width, 3), np.uint8) for k in range(2)]
     seconds = interleaved.interleaved_seconds([bundle, bundle], frames, threads=1, passes=2)
@@ -516,20 +484,28 @@ def test_interleaved_runtime_times_every_frame_with_every_bundle_and_reads_ratio
         interleaved.main(["no-label-given", "--video", "v.avi"])
 
 
-def test_groups_on_renders_counts_every_person_asked_for_once_apart_or_in_a_group(bundle, trained_run, tmp_path):
-    load_benchmark("decode_variants")  # groups_on_renders takes its variant parsing from there
-    groups = load_benchmark("groups_on_renders")
-    dataset, out = trained_run.parent / "dataset", tmp_path / "groups"
-    assert groups.main(["--pair", str(bundle), str(dataset), "--region", "r0", "--variant", "one per window",
-                        "min_centre_separation=0.5", "--out", str(out)]) == 0
-    result = json.loads((out / "groups_on_renders.json").read_text())
-    held_out = open_region(dataset, "r0").held_out
-    asked = sum(asked_for(a, (read_sample(s)[1].shape[1], read_sample(s)[1].shape[0]))
-                for s in held_out for a in s.annotations)
-    assert result["held_out_samples"] == len(held_out) and set(result["variants"]) == {"as exported", "one per window"}
-    for variant in result["variants"].values():
-        assert variant["people_apart"] + variant["people_overlapping"] == asked > 0
-        assert variant["of_which_one_box_for_two"] <= variant["overlapping_not_found_at_the_operating_point"]
-    assert result["variants"]["one per window"]["changes"] == {"min_centre_separation": 0.5}
-    assert (out / "groups_on_renders.png").stat().st_size > 0 and "| one per window |" in (
-        out / "groups_on_renders.md").read_text()
+def test_reports_name_paths_inside_the_repository_and_only_the_name_of_others(tmp_path):
+    assert display_path(REPO / "examples" / "scenes" / "demo" / "scene.yaml") == "examples/scenes/demo/scene.yaml"
+    assert display_path(tmp_path / "runs" / "60f2eb750f29") == "60f2eb750f29"
+
+
+def test_the_committed_reports_name_no_machine_folders():
+    """Reports are compared across machines: a run or scene is named by its name or its path in the repository."""
+    reports = [path for path in RESULTS.rglob("*") if path.suffix in (".md", ".json", ".jsonl")]
+    assert reports
+    named = {str(path.relative_to(RESULTS)): folder for path in reports
+             for folder in ("/work/", "/tmp/", "/root/", "/home/") if folder in path.read_text()}
+    assert named == {}
+
+
+@pytest.mark.parametrize(("benchmark", "write", "report"), [
+    pytest.param("accuracy_vs_time", sweep_module._report, "accuracy_vs_time", marks=pytest.mark.slow),
+    ("effects_ablation", ablation.report, "effects_ablation"),
+    ("render_throughput", throughput.write_processes, "render_throughput_processes"),
+    ("runtime_latency", latency._write_report, "runtime_latency"),
+])
+def test_the_committed_reports_are_what_the_benchmarks_write_from_their_numbers(benchmark, write, report, tmp_path):
+    folder = results_folder(benchmark)
+    write(json.loads((folder / f"{report}.json").read_text()), tmp_path)
+    assert (tmp_path / f"{report}.md").read_text() == (folder / f"{report}.md").read_text()
+    assert (tmp_path / f"{report}.json").read_text() == (folder / f"{report}.json").read_text()

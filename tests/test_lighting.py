@@ -10,16 +10,16 @@ from datetime import UTC, datetime
 
 import numpy as np
 import pytest
-from conftest import EXAMPLE_SCENES, load_benchmark
+from conftest import EXAMPLE_SCENES
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from benchmarks import lighting_recovery as recovery
 from vc.calibration.lighting import Illumination, illumination_from_strengths, sky_gradation, solar_position
 from vc.calibration.materials import PAVED_ALBEDO, VEGETATION_ALBEDO, ground_albedo_prior, luminance
 from vc.scenes.loader import load_scene
 
 DEMO = EXAMPLE_SCENES / "demo" / "scene.yaml"
-recovery = load_benchmark("lighting_recovery")
 
 
 @pytest.fixture(scope="module")
