@@ -13,8 +13,10 @@ import pytest
 
 from vc.deploy.decode import (
     LOWER_ANKLE_OFFSET,
+    SETTLED_SWITCHES,
     UPRIGHT_OFFSETS,
     DecodeConfig,
+    RetiredSetting,
     _keypoints,
     _median,
     _update_window_sums,
@@ -22,6 +24,7 @@ from vc.deploy.decode import (
     decode,
     find_peaks,
     local_maxima,
+    stored_decode_fields,
 )
 from vc.deploy.heatmaps import (
     ANATOMICAL_CHANNELS,
@@ -139,14 +142,54 @@ def test_round_trip_recovers_people_keypoints_and_boxes() -> None:
         assert match.mask_cells.sum() > 0
 
 
-def test_maps_of_networks_from_before_handedness_decode_as_anatomical() -> None:
-    person = _person((60.3, 95.7), 100.0, 1) | {"left_is_image_left": None}
-    heatmaps = encode([person], _instances([person]), CodecConfig(stride=STRIDE))[:ANATOMICAL_CHANNELS]
-    decoded = decode(heatmaps, DecodeConfig(stride=STRIDE), np.full(heatmaps.shape[1:], 100.0))
-    truth = np.asarray(person["keypoints"]).reshape(-1, 3)
-    assert np.linalg.norm(decoded[0].keypoints[:, :2] - truth[:, :2], axis=1).max() < STRIDE
-    with pytest.raises(ValueError, match="channels"):
+def test_maps_of_the_retired_layout_and_of_no_layout_are_refused() -> None:
+    with pytest.raises(ValueError, match="19 channels, the layout of networks from before the handedness maps"):
+        decode(np.zeros((ANATOMICAL_CHANNELS, 8, 8), np.float32))
+    with pytest.raises(ValueError, match="20 channels; a ScenePoseNet emits one of the layouts"):
         decode(np.zeros((ANATOMICAL_CHANNELS + 1, 8, 8), np.float32))
+
+
+def _settled_case() -> tuple[np.ndarray, np.ndarray]:
+    """Maps where each retired switch at its other value would decode other people: one person a little behind
+    another with their ankles hidden (keypoint peaks shared out), people 1.2x as tall as the camera expects (height
+    from head and ankles), a fine centre map (not read), a faded centre (a weak person), and noise."""
+    behind, front = _person((100.0, 90.0), 100.0, 1), _person((112.0, 112.0), 100.0, 2)
+    apart, faded = _person((200.0, 96.0), 100.0, 3, facing_away=True), _person((40.0, 100.0), 80.0, 4)
+    people = [behind, front, apart, faded]
+    heatmaps = encode(people, _instances(people), CodecConfig(stride=STRIDE, centre_offsets=True, fine_centre=True))
+    for ankle in (15, 16):
+        column, row = (int(round(v)) for v in input_to_cells(behind["keypoints"][3 * ankle:3 * ankle + 2], STRIDE))
+        heatmaps[1 + 15:1 + 17, row - 2:row + 3, column - 2:column + 3] = 0.0
+    column, row = (int(round(v)) for v in input_to_cells(faded["center"], STRIDE))
+    heatmaps[CENTRE_CHANNEL, row - 3:row + 4, column - 3:column + 4] *= 0.2
+    heatmaps += np.random.default_rng(7).uniform(-0.05, 0.05, heatmaps.shape).astype(np.float32)
+    return heatmaps, np.full(heatmaps.shape[1:], 100.0 / 1.2)
+
+
+def test_the_settled_decoding_finds_the_people_it_always_found() -> None:
+    """What every bundle decodes (docs/decisions/0003-decoder-settings.md), pinned on maps where each retired switch
+    at its other value would change the people: weak flag, score, box and per-person keypoint sums (x, y,
+    confidence)."""
+    heatmaps, heights = _settled_case()
+    people = decode(heatmaps, DecodeConfig(stride=STRIDE), heights, weak_above=0.1)
+    assert [person.weak for person in people] == [False, False, False, True]
+    np.testing.assert_allclose([person.score for person in people], [1.0172, 0.9988, 0.9963, 0.1781], atol=1e-4)
+    np.testing.assert_allclose([person.box for person in people],
+                               [[81.0, 39.581, 118.0, 141.173], [181.0, 46.116, 218.0, 145.727],
+                                [93.0, 62.276, 130.0, 161.607], [21.0, 60.047, 58.0, 139.73]], atol=1e-3)
+    np.testing.assert_allclose([person.keypoints.sum(axis=0) for person in people],
+                               [[1645.755, 1336.329, 13.616], [3400.307, 1444.486, 15.078],
+                                [1903.819, 1716.266, 15.067], [680.131, 1549.583, 14.495]], atol=1e-3)
+
+
+def test_a_stored_decode_config_naming_a_settled_switch_reads_as_without_it() -> None:
+    stored = {**DecodeConfig(stride=STRIDE).__dict__, **SETTLED_SWITCHES}
+    assert DecodeConfig(**stored_decode_fields(stored)) == DecodeConfig(stride=STRIDE)
+    for name, settled in SETTLED_SWITCHES.items():
+        with pytest.raises(RetiredSetting, match=f"{name}={str(not settled).lower()}, a decoding this version no "
+                                                 f"longer has") as refused:
+            stored_decode_fields({**stored, name: not settled})
+        assert refused.value.field == name
 
 
 def test_empty_and_flat_maps_decode_to_nobody() -> None:
@@ -178,15 +221,17 @@ def test_stray_mask_and_keypoints_beyond_reach_do_not_stretch_the_box():
 
 def test_the_box_may_take_its_height_from_the_person_s_head_and_ankles():
     """A person 1.2x as tall as the camera expects where their centre was found (an eye-level camera, a centre a
-    few pixels off): the box spans their own head and feet; without ``height_from_keypoints``, and when the
-    keypoints say more than ``keypoint_height_range`` off (a neighbour's ankle), the expected height."""
+    few pixels off): the box spans their own head and feet; without confident ankles, and when the keypoints say
+    more than ``keypoint_height_range`` off (a neighbour's ankle), the expected height."""
     person = _person((60.3, 95.7), 100.0, 1)
     heatmaps = encode([person], _instances([person]), CodecConfig(stride=STRIDE))
     expected = np.full(heatmaps.shape[1:], 100.0 / 1.2)
     x0, y0, w, h = person["amodal_bbox"]
     own = decode(heatmaps, DecodeConfig(stride=STRIDE), expected)[0].box
     assert own[1] == pytest.approx(y0, abs=1.0) and own[3] == pytest.approx(y0 + h, abs=1.0)
-    centred = decode(heatmaps, DecodeConfig(stride=STRIDE, height_from_keypoints=False), expected)[0].box
+    without_ankles = heatmaps.copy()
+    without_ankles[1 + 15:1 + 17] = 0.0
+    centred = decode(without_ankles, DecodeConfig(stride=STRIDE), expected)[0].box
     assert centred[3] - centred[1] == pytest.approx(100.0 / 1.2)
     too_far = np.full(heatmaps.shape[1:], 100.0 / 1.6)
     fallen_back = decode(heatmaps, DecodeConfig(stride=STRIDE), too_far)[0].box
@@ -235,30 +280,26 @@ def test_people_searched_together_get_the_keypoints_each_would_get_alone() -> No
     assert (together[..., 2] > 0).sum() > 0.8 * together[..., 2].size  # most keypoints were searched and found
 
 
-def test_exclusive_keypoints_keep_a_neighbour_s_feet_out_of_a_person_s_box():
-    """One person a little behind another, their feet hidden by the one in front, whose feet are strong. Sharing
-    the peaks, the person behind takes the front person's ankles and their box reaches down to them; with
-    exclusive keypoints the front person keeps their own ankles, and the person behind falls back to the height
-    the camera expects."""
+def test_a_keypoint_peak_goes_to_one_person_and_keeps_a_neighbour_s_feet_out_of_a_person_s_box():
+    """One person a little behind another, their feet hidden by the one in front, whose feet are strong. The front
+    person keeps their own ankles; the person behind gets none of theirs, and their box falls back to the height the
+    camera expects instead of reaching down to the front person's feet."""
     behind, front = _person((100.0, 90.0), 100.0, 1), _person((112.0, 112.0), 100.0, 2)
     heatmaps = encode([behind, front], _instances([behind, front]), CodecConfig(stride=STRIDE))
     heights = np.full(heatmaps.shape[1:], 100.0)
     for ankle in (15, 16):
         column, row = (int(round(v)) for v in input_to_cells(behind["keypoints"][3 * ankle:3 * ankle + 2], STRIDE))
         heatmaps[1 + 15:1 + 17, row - 2:row + 3, column - 2:column + 3] = 0.0  # the ankle maps only
-    shared = decode(heatmaps, DecodeConfig(stride=STRIDE, exclusive_keypoints=False), heights)
-    exclusive = decode(heatmaps, DecodeConfig(stride=STRIDE, exclusive_keypoints=True), heights)
-    assert len(shared) == len(exclusive) == 2
-    (behind_shared, front_shared), (behind_exclusive, front_exclusive) = (
-        sorted(found, key=lambda person: person.centre[1]) for found in (shared, exclusive))
-    assert behind_shared.box[3] == pytest.approx(front["amodal_bbox"][1] + 100.0, abs=3.0)  # the front one's feet
-    assert behind_exclusive.box[3] == pytest.approx(behind["amodal_bbox"][1] + 100.0, abs=1.0)  # its own height
-    assert behind_exclusive.keypoints[[15, 16], 2].max() < 0.2  # no ankles of its own
-    np.testing.assert_allclose(front_exclusive.keypoints, front_shared.keypoints, atol=1e-6)
-    np.testing.assert_allclose(front_exclusive.box, front_shared.box, atol=1e-6)
-    head_and_body = np.arange(15)
-    np.testing.assert_allclose(behind_exclusive.keypoints[head_and_body], behind_shared.keypoints[head_and_body],
-                               atol=1e-6)
+    found = decode(heatmaps, DecodeConfig(stride=STRIDE), heights)
+    assert len(found) == 2
+    behind_found, front_found = sorted(found, key=lambda person: person.centre[1])
+    assert behind_found.box[3] == pytest.approx(behind["amodal_bbox"][1] + 100.0, abs=1.0)  # its own height
+    assert behind_found.keypoints[[15, 16], 2].max() < 0.2  # no ankles of its own
+    for person, truth in ((front_found, front), (behind_found, behind)):
+        own = np.arange(17) if person is front_found else np.arange(15)  # everything but the hidden ankles
+        errors = np.linalg.norm(person.keypoints[own, :2] - np.reshape(truth["keypoints"], (-1, 3))[own, :2], axis=1)
+        assert errors.max() < STRIDE
+    assert front_found.box[3] == pytest.approx(front["amodal_bbox"][1] + 100.0, abs=1.0)
 
 
 def test_a_sharper_centre_map_keeps_one_person_behind_another_as_two():
@@ -280,8 +321,7 @@ def test_a_sharper_centre_map_keeps_one_person_behind_another_as_two():
     assert sharp["loss"].detection == pytest.approx(4.0)  # a quarter of the area, four times the weight
 
 
-@pytest.mark.parametrize("exclusive", [False, True])
-def test_weak_people_are_decoded_when_asked_and_take_nothing_from_the_others(exclusive):
+def test_weak_people_are_decoded_when_asked_and_take_nothing_from_the_others():
     """Two people side by side, the right one's centre peak faded below the threshold: asked for weak people, the
     decoder also returns the faded one, flagged weak, and the other comes out exactly as without it (its mask
     cells and keypoint peaks are not shared out with the weak one)."""
@@ -290,7 +330,7 @@ def test_weak_people_are_decoded_when_asked_and_take_nothing_from_the_others(exc
     column, row = (int(round(v)) for v in input_to_cells(right["center"], STRIDE))
     heatmaps[CENTRE_CHANNEL, row - 3:row + 4, column - 3:column + 4] *= 0.2
     heights = np.full(heatmaps.shape[1:], 100.0)
-    config = DecodeConfig(stride=STRIDE, exclusive_keypoints=exclusive)
+    config = DecodeConfig(stride=STRIDE)
     alone = decode(heatmaps, config, heights)
     with_weak = decode(heatmaps, config, heights, weak_above=0.1)
     assert len(alone) == 1 and not alone[0].weak
@@ -380,10 +420,10 @@ def test_the_fine_centre_map_holds_each_centre_at_twice_the_resolution() -> None
         assert min(np.linalg.norm(position - expected) for _, position in peaks) < 0.25
 
 
-def test_the_fine_centre_map_keeps_two_peaks_where_the_coarse_one_draws_one() -> None:
+def test_the_decoder_reads_the_coarse_centre_map_and_not_the_fine_one() -> None:
     """Two 48 px people 0.125 heights (1.5 cells) apart: the coarse centre map as a network draws it there, one
-    blurred peak between them; the fine map two. The decoder finds its peaks on the fine map and places them in
-    cells like the coarse ones: two people where they stand, one from the coarse map alone."""
+    blurred peak between them; the fine map two. The fine map trains the network and is not read
+    (docs/decisions/0010-fine-centre-map.md): the same person as from the maps without it."""
     front, behind = _person((110.3, 95.7), 48.0, 1), _person((116.3, 95.7), 48.0, 2)
     heatmaps = encode([front, behind], _instances([front, behind]),
                       CodecConfig(stride=STRIDE, centre_offsets=True, fine_centre=True))
@@ -391,15 +431,12 @@ def test_the_fine_centre_map_keeps_two_peaks_where_the_coarse_one_draws_one() ->
     x, y = input_to_cells([113.3, 95.7], STRIDE)
     heatmaps[CENTRE_CHANNEL] = np.exp(-((columns - x) ** 2 + (rows - y) ** 2) / (2 * 1.5**2))
     heights = np.full(heatmaps.shape[1:], 48.0)
-    config = DecodeConfig(stride=STRIDE, min_centre_separation=0.1, vote_separation=0.1, fine_centre_peaks=True)
-    assert len(decode(heatmaps[:OFFSET_CHANNELS], config, heights)) == 1
-    found = decode(heatmaps, config, heights)
-    assert len(found) == 2
-    np.testing.assert_allclose(sorted(person.centre[0] for person in found), [110.3, 116.3], atol=1.0)
-    np.testing.assert_allclose([person.centre[1] for person in found], 95.7, atol=1.0)
-    coarse = decode(heatmaps, replace(config, fine_centre_peaks=False), heights)  # the fine map ignored
+    assert len(find_peaks(fine_centre_map(heatmaps[FINE_CENTRE_CHANNELS]), 0.3)) == 2
+    config = DecodeConfig(stride=STRIDE, min_centre_separation=0.1, vote_separation=0.1)
+    (with_fine,) = decode(heatmaps, config, heights)
     (without_fine,) = decode(heatmaps[:OFFSET_CHANNELS], config, heights)
-    assert len(coarse) == 1 and coarse[0].box.tolist() == without_fine.box.tolist()
+    assert with_fine.box.tolist() == without_fine.box.tolist()
+    assert with_fine.keypoints.tolist() == without_fine.keypoints.tolist()
 
 
 def test_a_lone_person_s_votes_add_nobody_and_scattered_votes_are_not_a_person() -> None:

@@ -24,11 +24,12 @@ from vc.cli.export import main as vc_export
 from vc.cli.run import main as vc_run
 from vc.deploy.areas import ImageArea, in_area
 from vc.deploy.bundle import load_bundle
-from vc.deploy.decode import DecodeConfig, decode
-from vc.deploy.heatmaps import HEATMAP_CHANNELS, OFFSET_CHANNELS, channel_names
+from vc.deploy.decode import SETTLED_SWITCHES, DecodeConfig, decode
+from vc.deploy.heatmaps import ANATOMICAL_CHANNELS, HEATMAP_CHANNELS, OFFSET_CHANNELS, channel_names
 from vc.deploy.runtime import Runtime
 from vc.errors import InputError
 from vc.io import write_image
+from vc.keypoints import COCO_KEYPOINTS
 from vc.model.codec import CodecConfig
 from vc.model.export import DeployedNetwork, bundle_files, export_onnx
 from vc.model.network import ScenePoseNet
@@ -418,3 +419,79 @@ def test_a_network_with_centre_offsets_exports_names_its_maps_and_runs(tmp_path)
     frame = sample(region_camera(), 0).image
     assert runtime.runners[0].heatmaps(frame).shape[0] == OFFSET_CHANNELS
     assert isinstance(runtime(frame), list)
+
+
+def _rewritten_manifest(bundle: Path, copy: Path, edit) -> Path:
+    """A copy of ``bundle`` whose manifest ``edit`` changed (what a bundle another version exported holds)."""
+    copy = Path(shutil.copytree(bundle, copy))
+    manifest = json.loads((copy / "manifest.json").read_text())
+    edit(manifest)
+    (copy / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n")
+    return copy
+
+
+def test_a_bundle_naming_the_settled_switches_decodes_the_same_people(bundle, tmp_path):
+    """A bundle exported while the decoder still had its settled switches names them at their settled values: it
+    loads, and decodes exactly the people this version's export does (docs/decisions/0003-decoder-settings.md)."""
+    manifest = json.loads((bundle / "manifest.json").read_text())
+    assert not set(SETTLED_SWITCHES) & set(manifest["regions"][0]["decode"])  # this version's export names none
+    older = _rewritten_manifest(bundle, tmp_path / "older",
+                                lambda manifest: manifest["regions"][0]["decode"].update(SETTLED_SWITCHES))
+    assert load_bundle(older).regions[0].decode == load_bundle(bundle).regions[0].decode
+    frames = [sample(region_camera(), index).image for index in range(2)]
+    with Runtime(bundle, threads=1) as current, Runtime(older, threads=1) as before:
+        for frame in frames:
+            heatmaps = current.runners[0].heatmaps(frame)
+            np.testing.assert_array_equal(heatmaps, before.runners[0].heatmaps(frame))
+            everyone = replace(current.runners[0].entry.decode, centre_threshold=0.0)  # people to compare
+            found = [(person.score, person.box.tolist(), person.keypoints.tolist())
+                     for person in current.runners[0].people_in(heatmaps, everyone)]
+            assert found and found == [(person.score, person.box.tolist(), person.keypoints.tolist())
+                                       for person in before.runners[0].people_in(
+                                           heatmaps, replace(before.runners[0].entry.decode, centre_threshold=0.0))]
+
+
+@pytest.mark.parametrize("name", sorted(SETTLED_SWITCHES))
+def test_a_bundle_exported_with_a_retired_decoding_is_refused_by_name(bundle, tmp_path, capsys, name):
+    other = not SETTLED_SWITCHES[name]
+    refused = _rewritten_manifest(bundle, tmp_path / "refused",
+                                  lambda manifest: manifest["regions"][0]["decode"].update({name: other}))
+    with pytest.raises(InputError, match=f"regions.0.decode.{name}: exported with {name}={str(other).lower()}, a "
+                                         f"decoding this version no longer has") as error:
+        load_bundle(refused)
+    assert error.value.path == str(refused) and "vc-export" in error.value.reason
+    frame = tmp_path / "frame.png"
+    write_image(frame, sample(region_camera(), 0).image)
+    assert vc_run([str(refused), str(frame), "-o", str(tmp_path / "run")]) == 2
+    assert f"decode.{name}" in capsys.readouterr().err and not (tmp_path / "run").exists()
+
+
+def test_a_bundle_of_the_retired_19_map_layout_is_refused(bundle, tmp_path):
+    refused = _rewritten_manifest(bundle, tmp_path / "refused", lambda manifest: manifest["output"].update(
+        channels=["centre", *COCO_KEYPOINTS, "mask"]))
+    assert ANATOMICAL_CHANNELS == 19
+    with pytest.raises(InputError, match="output.channels: 19 heat maps, the layout of networks from before the "
+                                         "handedness maps"):
+        load_bundle(refused)
+
+
+@pytest.mark.parametrize("name", sorted(SETTLED_SWITCHES))
+def test_a_checkpoint_naming_a_settled_switch_loads_and_one_at_the_other_value_is_refused(trained_run, tmp_path,
+                                                                                            name):
+    settled, other = tmp_path / "settled.pt", tmp_path / "other.pt"
+    for path, value in ((settled, SETTLED_SWITCHES[name]), (other, not SETTLED_SWITCHES[name])):
+        shutil.copy(trained_run / "checkpoints" / "r0.pt", path)
+        rewrite_checkpoint(path, lambda content, value=value: content["train_config"]["decode"].update({name: value}))
+    assert load_checkpoint(settled).config == load_checkpoint(trained_run / "checkpoints" / "r0.pt").config
+    with pytest.raises(InputError, match=f"train_config.decode.{name}: trained with {name}=") as error:
+        load_checkpoint(other)
+    assert error.value.path == str(other)
+
+
+def test_a_checkpoint_of_the_retired_19_map_layout_is_refused(trained_run, tmp_path):
+    path = tmp_path / "old.pt"
+    shutil.copy(trained_run / "checkpoints" / "r0.pt", path)
+    rewrite_checkpoint(path, lambda content: content["train_config"]["network"].pop("heatmap_channels"))
+    with pytest.raises(InputError, match="train_config.network.heatmap_channels: trained with a network of 19 heat "
+                                         "maps"):
+        load_checkpoint(path)

@@ -11,8 +11,9 @@ import pytest
 import torch
 from torch import nn
 
+from vc.deploy.decode import RetiredSetting
+from vc.deploy.heatmaps import ANATOMICAL_CHANNELS
 from vc.model.config import (
-    ANATOMICAL_CHANNELS,
     DEFAULT_ARCH,
     HEATMAP_CHANNELS,
     PRESETS,
@@ -184,14 +185,20 @@ def test_config_round_trips_through_json(name):
     assert NetworkConfig.from_dict(json.loads(json.dumps(config.to_dict()))) == config
 
 
-def test_configs_from_before_handedness_maps_build_the_anatomical_network():
-    """Checkpoints and bundles written before the handedness maps carry no ``heatmap_channels``; they must load as
-    the 19-map networks they were trained as."""
+@pytest.mark.parametrize("written", ["without the field", "with 19 maps"])
+def test_configs_of_the_retired_19_map_layout_are_refused(written):
+    """A config without ``heatmap_channels`` (written before the handedness maps) or with 19 describes a network of
+    the retired layout: refused by name, never built as another network."""
     old = {key: value for key, value in network_config(DEFAULT_ARCH).to_dict().items() if key != "heatmap_channels"}
-    config = NetworkConfig.from_dict({**old, "belief_channels": ANATOMICAL_CHANNELS})
-    assert config.heatmap_channels == ANATOMICAL_CHANNELS
-    heatmaps = ScenePoseNet(config).eval()(torch.rand(1, 3, 64, 64))["heatmaps"]
-    assert heatmaps.shape[1] == ANATOMICAL_CHANNELS
+    old["belief_channels"] = ANATOMICAL_CHANNELS
+    if written == "with 19 maps":
+        old["heatmap_channels"] = ANATOMICAL_CHANNELS
+    with pytest.raises(RetiredSetting, match="a network of 19 heat maps") as refused:
+        NetworkConfig.from_dict(old)
+    assert refused.value.field == "heatmap_channels"
+    with pytest.raises(ValueError, match="heatmap_channels must be one of the layouts"):
+        replace(network_config(DEFAULT_ARCH), heatmap_channels=ANATOMICAL_CHANNELS,
+                belief_channels=ANATOMICAL_CHANNELS)
 
 
 def test_config_rejects_bad_fields_and_values():

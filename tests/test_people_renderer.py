@@ -1,6 +1,6 @@
 """The people renderer: pixel convention, coverage, depth and shadow passes, determinism (no anny needed).
 
-A "person" here is any mesh in the renderer's slot topology: an icosphere for the half-pixel test (DESIGN.md,
+A "person" here is any mesh in the renderer's slot topology: an icosphere for the half-pixel test (docs/design.md,
 "Conventions": mask centroid within 0.1 px of the projection, with and without lens distortion), a box for
 shadows and occlusion.
 """

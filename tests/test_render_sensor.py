@@ -1,4 +1,4 @@
-"""Mitsuba sensors image exactly like the calibrated camera (DESIGN.md, "Conventions": the half-pixel shift).
+"""Mitsuba sensors image exactly like the calibrated camera (docs/design.md, "Conventions": the half-pixel shift).
 
 A small emissive sphere rendered at a known 3-D point must appear where ``Camera.project`` puts that point, to
 within 0.1 px: directly for an ideal pinhole, and through the warp for a camera with anisotropic focal lengths,

@@ -1,6 +1,6 @@
 """One ``Camera`` type for every calibration the project reads.
 
-Conventions (DESIGN.md, one place each):
+Conventions (docs/design.md, one place each):
 
 * World: metres, right-handed, z up, ground plane z = 0.
 * Camera frame: OpenCV (x right, y down, z forward); ``R``, ``t`` map world -> camera: ``Xc = R Xw + t``.

@@ -1,6 +1,6 @@
 """Camera response: between the 8-bit values a camera writes and linear light.
 
-Rendering and compositing happen in linear light (DESIGN.md, "Conventions"); the background photograph is
+Rendering and compositing happen in linear light (docs/design.md, "Conventions"); the background photograph is
 decoded with the scene's response and the composite encoded back with the same one. Responses accepted by the
 scene schema: ``srgb`` (IEC 61966-2-1, through colour-science), ``linear``, and a pure power law ``gamma G``.
 This is the seam for photometric calibration: a fitted curve would be one more response here.

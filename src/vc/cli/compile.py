@@ -109,7 +109,7 @@ def _summary(state: dict, out: Path) -> str:
     lines += [f"  {name:<10} {record['seconds']:8.0f}" for name, record in stages.items()]
     lines.append(f"  total      {sum(record['seconds'] for record in stages.values()):8.0f}")
     for name, accuracy in stages["train"]["held_out"].items():
-        grouped = accuracy.get("recall_overlapping")  # (absent from compiles resumed from before it was measured)
+        grouped = accuracy.get("recall_overlapping")  # absent from older compiles' records, which resume without it
         lines.append(f"  {name}: held-out synthetic AP50 {accuracy['ap50']:.3f}, PCKh@0.5 {accuracy['pckh'] or 0:.3f}, "
                      f"mask IoU {accuracy['mask_iou'] or 0:.3f}, "
                      + (f"recall of people overlapping another {grouped:.3f}, " if grouped is not None else "")

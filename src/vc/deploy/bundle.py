@@ -5,6 +5,11 @@ Nothing is loaded before the whole bundle checks out: with a public key, the man
 (:mod:`vc.deploy.signing`); the format and its version, every field the runtime reads, every listed file present,
 inside the bundle and matching its SHA-256. A bad bundle is refused with one :class:`~vc.errors.InputError`
 naming the file and the field.
+
+Each region's ``decode`` names the decoding it was exported with. A switch the decoder has settled
+(:data:`~vc.deploy.decode.SETTLED_SWITCHES`) is read past at its settled value, the decoding every bundle gets, and
+refused at the other, as is a bundle of the retired 19-map layout (``output.channels``): the refusal names the
+field. The format itself is unchanged, and so is its version (docs/decisions/0003-decoder-settings.md).
 """
 
 from __future__ import annotations
@@ -18,7 +23,8 @@ from pathlib import Path, PurePosixPath, PureWindowsPath
 
 import numpy as np
 
-from vc.deploy.decode import DecodeConfig
+from vc.deploy.decode import DecodeConfig, RetiredSetting, stored_decode_fields
+from vc.deploy.heatmaps import ANATOMICAL_CHANNELS, LAYOUTS
 from vc.deploy.signing import SIGNATURE, verify_manifest
 from vc.errors import InputError
 
@@ -143,13 +149,24 @@ def load_bundle(path: str | Path, public_key: Path | bytes | None = None) -> Bun
         raise InputError(path, f"{MANIFEST}: format_version", f"unsupported bundle format {version!r} (this runtime "
                                                               f"reads {BUNDLE_FORMAT_VERSION})")
     _require(manifest, "frame_size", list, f"{MANIFEST}: ", path)
+    output = manifest.get("output")
+    channels = output.get("channels") if isinstance(output, dict) else None
+    if isinstance(channels, list) and len(channels) not in LAYOUTS:
+        reason = (f"{len(channels)} heat maps, the layout of networks from before the handedness maps, which this "
+                  f"runtime does not decode (docs/decisions/0003-decoder-settings.md); compile the scene again with "
+                  f"this version" if len(channels) == ANATOMICAL_CHANNELS else
+                  f"{len(channels)} heat maps; this runtime decodes the layouts of {', '.join(map(str, LAYOUTS))}")
+        raise InputError(path, f"{MANIFEST}: output.channels", reason)
     regions = []
     for index, entry in enumerate(_require(manifest, "regions", list, f"{MANIFEST}: ", path)):
         where = f"{MANIFEST}: regions.{index}."
         model = _checked(files, entry, "model", where)
         heights = np.load(io.BytesIO(_checked(files, entry, "expected_height", where)), allow_pickle=False)
         try:
-            decode = DecodeConfig(**_require(entry, "decode", dict, where, path))
+            decode = DecodeConfig(**stored_decode_fields(_require(entry, "decode", dict, where, path)))
+        except RetiredSetting as error:
+            raise InputError(path, f"{where}decode.{error.field}", f"exported with {error.reason}; export its run "
+                                                                   f"again with this version's vc-export") from None
         except TypeError as error:
             raise InputError(path, f"{where}decode", str(error)) from None
         regions.append(RegionEntry(

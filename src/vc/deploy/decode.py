@@ -4,22 +4,21 @@
    sub-cell precision by a parabola through each peak and its neighbours. A peak closer than
    ``min_centre_separation`` expected heights to a stronger one is that person's blurred peak, not another.
    Asked for weak people (``weak_above``), the peaks down to that value are decoded too, flagged ``weak``, for a
-   tracker to continue tracks with; they take no mask cells or keypoint peaks from the others. From a network
-   with a fine centre map (:data:`~vc.deploy.heatmaps.FINE_CENTRE_CHANNELS`) and ``fine_centre_peaks``, the
-   peaks are that map's, at twice the resolution, and their positions are then brought to cells.
+   tracker to continue tracks with; they take no mask cells or keypoint peaks from the others. A network's fine
+   centre map (:data:`~vc.deploy.heatmaps.FINE_CENTRE_CHANNELS`) is not read: it trains the network, and the
+   coarse map's peaks track people best (docs/decisions/0010-fine-centre-map.md).
    1b. From a network with centre offsets, each mask cell above ``mask_threshold`` votes for the centre of the
    person it belongs to (cell + offset x expected height). Votes that no centre of step 1 claims (within
    ``vote_separation``) and that gather at least ``vote_support`` of a person's pixels around one point are
    a person the centre map merged into a neighbour's peak, or blurred between people: a peak few pixels vote for
    moves there, else they are added at their votes' mean, scored by the centre map there.
-2. Each keypoint is the maximum of its map weighted by a Gaussian prior around where that keypoint sits on an
+2. Each keypoint is a peak of its map weighted by a Gaussian prior around where that keypoint sits on an
    upright person (:data:`UPRIGHT_OFFSETS`, scaled by the person's expected height): a neighbour's ankle, even
-   if nearer to this centre, loses to this person's own. At most ``max_people`` peaks are decoded. Pairs come
-   in image order and the handedness maps at the person's centre say which member is the left one
-   (:mod:`vc.deploy.heatmaps`).
-   2b. With ``exclusive_keypoints``, the candidates are the local maxima of each keypoint map instead of every
-   cell, and they are shared out greedily, best prior-weighted value first: a peak goes to one person only, so
-   two people side by side never both take the stronger one's wrist.
+   if nearer to this centre, loses to this person's own. The candidates are the local maxima of each keypoint
+   map, shared out greedily, best prior-weighted value first: a peak goes to one person only, so two people side
+   by side never both take the stronger one's wrist. A weak person takes the maximum of each map weighted by
+   their prior, whoever else has it. At most ``max_people`` peaks are decoded. Pairs come in image order and the
+   handedness maps at the person's centre say which member is the left one (:mod:`vc.deploy.heatmaps`).
 3. The mask cells above ``mask_threshold`` go to the nearest centre (in units of expected height); with centre
    offsets, to the centre nearest the one they vote for.
 4. The box is scene-specific: its top and bottom are the person's own head and feet where their keypoints are
@@ -32,6 +31,7 @@ Coordinates are network-input pixels (pixel centres at integers) unless named ``
 
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass
 
 import numpy as np
@@ -40,17 +40,12 @@ from vc.deploy.heatmaps import (
     ANATOMICAL_CHANNELS,
     CENTRE_CHANNEL,
     CENTRE_OFFSET_CHANNELS,
-    FINE_CENTRE_CHANNELS,
-    FINE_CHANNELS,
     HANDEDNESS_CHANNELS,
     KEYPOINT_CHANNELS,
     LAYOUTS,
     MASK_CHANNEL,
     OFFSET_CHANNELS,
-    cells_to_fine,
     cells_to_input,
-    fine_centre_map,
-    fine_to_cells,
     swap_pairs,
 )
 from vc.keypoints import COCO_KEYPOINTS
@@ -59,9 +54,8 @@ from vc.keypoints import COCO_KEYPOINTS
 #: (surveillance views of pedestrians: heads up, feet down; the prior's width absorbs gait and lean): the median
 #: over 2 000 sampled walkers and standers, dressed in the default wardrobe (hair, clothes and soles as volume,
 #: :mod:`vc.render.dressing`), of (keypoint - middle of the body's vertical extent) / that extent, at the seen
-#: level. Bare bodies measured this way matched the renders' own boxes within 0.002 (eyes -0.436, lower ankle
-#: 0.439; benchmarks/results/box_extent.md); dressed, the head's keypoints lie 0.006 heights lower under hair and
-#: the ankles 0.01 higher over soles (benchmarks/results/dressed_bodies_pets09.md). ``tests/test_bodies.py``
+#: level. Measured, not guessed: guessed offsets made the boxes about 5 % short
+#: (docs/decisions/0003-decoder-settings.md; dressed: docs/decisions/0005-dressed-people.md). ``tests/test_bodies.py``
 #: checks them against dressed anny bodies.
 UPRIGHT_OFFSETS = np.array([-0.41, -0.43, -0.43, -0.42, -0.42, -0.305, -0.305, -0.155, -0.155, -0.02, -0.02,
                             -0.02, -0.02, 0.195, 0.195, 0.41, 0.41])
@@ -79,7 +73,8 @@ LOWER_ANKLE_OFFSET = 0.427
 @dataclass(frozen=True)
 class DecodeConfig:
     """How heat maps become people; a bundle's manifest carries it per region (fields it lacks take these
-    defaults). Lengths in person heights are fractions of the expected height at the person's centre."""
+    defaults). Lengths in person heights are fractions of the expected height at the person's centre. The values
+    and the options measured against them: docs/decisions/0003-decoder-settings.md."""
 
     #: Read strictly when pydantic validates a stored training config (:func:`vc.model.trainer.read_train_config`).
     __pydantic_config__ = {"extra": "forbid"}
@@ -93,46 +88,54 @@ class DecodeConfig:
     max_people: int = 100  # the strongest centre peaks decoded; bounds the time a noisy frame can take
     min_centre_separation: float = 0.15  # closer centre peaks (person heights) are one person's
     # A person's mask cells and box reach at most this far from the centre, in person heights (sideways, up and
-    # down): mask blobs and keypoints beyond belong to someone else or to nobody, and must not stretch the box.
-    # 0.2 since the decoder variants on PETS09 (benchmarks/results/decode_variants_pets09.md): a person's body lies
-    # within 0.2 heights of their vertical axis; 0.3 let a neighbour's mask widen the box (real AP50 0.883 -> 0.899,
-    # both halves of the dev frames; held-out synthetic AP50 up in every region).
+    # down): a body lies within 0.2 heights of its vertical axis, and what lies beyond is a neighbour's.
     reach_sideways: float = 0.2
     reach_vertical: float = 0.6
     min_width: float = 0.25  # the narrowest box, in person heights
     side_margin: float = 0.03  # added around the keypoints and mask that set the box's width, in person heights
-    # The box's top and bottom from the person's own head and ankle keypoints where both are confident (its
-    # height within ``keypoint_height_range`` of the expected one), else the expected height around the centre.
-    # Since benchmarks/results/decode_variants_tud.md: on TUD-Stadtmitte's eye-level camera real AP50 0.693 ->
-    # 0.753 (both halves of the clip); on PETS09's raised camera 0.892 -> 0.891 and 0.892 -> 0.881 (two bundles).
-    height_from_keypoints: bool = True
+    # The box's top and bottom come from the person's own head and ankles (step 4) where their height lies within
+    # this factor of the expected one: beyond it, one of them is a neighbour's.
     keypoint_height_range: float = 1.5
-    # Each keypoint peak goes to one person at most (step 2b): people close together stop sharing a neighbour's
-    # wrist or ankle, which would widen or lengthen their boxes. Peaks weaker than ``keypoint_peak_floor`` are
-    # not candidates; a person left without a peak of some keypoint gets it at its upright position, with the
-    # map's value there as its confidence. On since benchmarks/results/decode_votes.md (with ``vote_support``).
-    exclusive_keypoints: bool = True
+    # Keypoint peaks weaker than this are not candidates in step 2; a person left without a peak of some keypoint
+    # gets it at its upright position, with the map's value there as its confidence.
     keypoint_peak_floor: float = 0.05
     # Step 1b (networks with centre offsets): the share of a person's pixels (PERSON_AREA) whose unclaimed votes
-    # make one more person. 0.15 since benchmarks/results/decode_votes.md: a person half hidden behind another
-    # shows a fraction of their pixels, and the centre map's threshold still has to accept the place they vote
-    # for; 0.3 left them out (with exclusive keypoints, real AP50 tracked PETS09 0.934 -> 0.941 over three
-    # bundles, TUD-Stadtmitte +0.03). 0.1 found as many (+0.002) but people appearing and vanishing in groups
-    # switched identities in tracking half as often again (PETS09 IDF1 0.79 at 0.15, 0.71 at 0.1).
+    # make one more person: low enough for a person half hidden behind another, not so low that identities switch.
     vote_support: float = 0.15
     # Step 1b's reach of a centre peak over the votes (person heights): votes this close to a peak are its person's,
-    # and the free votes are gathered over windows of this radius. None: ``min_centre_separation``. Apart from
-    # the peaks' separation because the two fail differently: a second centre peak 0.12 heights from the first is
-    # as often one person's blur (benchmarks/results/groups_pets09.md), while votes 0.12 heights from a peak
-    # gather where a person one behind another stands (benchmarks/results/vote_reach_pets09.md).
+    # and the free votes are gathered over windows of this radius. None: ``min_centre_separation``. Apart from the
+    # peaks' separation because the two fail differently: a second peak that close is as often one person's blur,
+    # while votes that close gather where a person one behind another stands.
     vote_separation: float | None = None
-    # Step 1 from a network with a fine centre map: its peaks (True), or the coarse map's, the fine map then having
-    # served only as a training target (False). Learning the fine map is what finds people one behind another;
-    # reading its peaks adds little to that and doubles the identity switches: PETS09, three seeds, tracked AP50
-    # 0.958 against 0.953, overlapping recall 0.930 against 0.938, MOTA 0.903 against 0.866, 8 identity switches
-    # against 18; TUD-Stadtmitte 21 against 40, AP50 0.858 against 0.867 (benchmarks/results/fine_centre_pets09.md).
-    fine_centre_peaks: bool = False
 
+
+#: Decoder switches whose question is settled, at the value every bundle decodes with
+#: (docs/decisions/0003-decoder-settings.md): a stored decode config that still names one at this value reads as
+#: without it; one at the other value asks for a decoding this version does not have (:func:`stored_decode_fields`).
+SETTLED_SWITCHES = {"exclusive_keypoints": True, "height_from_keypoints": True, "fine_centre_peaks": False}
+
+
+class RetiredSetting(ValueError):
+    """A stored config asks for what this version no longer has: ``field`` (dotted, within that config) and why.
+    Readers turn it into an :class:`~vc.errors.InputError` naming their file."""
+
+    def __init__(self, field: str, reason: str) -> None:
+        self.field, self.reason = field, reason
+        super().__init__(f"{field}: {reason}")
+
+
+def stored_decode_fields(data: dict) -> dict:
+    """A stored decode config (a bundle manifest's region ``decode``, a training config's ``decode``) as this
+    version reads it: without the :data:`SETTLED_SWITCHES` it names at their settled values. A switch at the other
+    value raises :class:`RetiredSetting`."""
+    if not isinstance(data, dict):
+        return data
+    for name, settled in SETTLED_SWITCHES.items():
+        if name in data and data[name] != settled:
+            raise RetiredSetting(name, f"{name}={json.dumps(data[name])}, a decoding this version no longer has (it "
+                                       f"decodes as {name}={json.dumps(settled)}: "
+                                       f"docs/decisions/0003-decoder-settings.md)")
+    return {name: value for name, value in data.items() if name not in SETTLED_SWITCHES}
 
 
 @dataclass
@@ -144,8 +147,8 @@ class DecodedPerson:
     mask_cells: np.ndarray  # (h, w) bool at heat-map resolution
     # The handedness maps at the centre, one per pair (:data:`vc.deploy.heatmaps.PAIRS`): > 0 where the pair's
     # image-left member is the left one (the person seen from behind), < 0 the right one (from the front); the
-    # decoder ordered the pairs by their signs. None from a network without handedness maps.
-    pair_handedness: np.ndarray | None = None
+    # decoder ordered the pairs by their signs.
+    pair_handedness: np.ndarray
     weak: bool = False  # below the centre threshold, decoded only when asked for (``decode``'s ``weak_above``)
 
 
@@ -242,7 +245,7 @@ def _maxima_in(maps: np.ndarray, threshold: float,
 def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
            expected_height_px: np.ndarray | None = None, weak_above: float | None = None) -> list[DecodedPerson]:
     """People in one sample's heat maps (C, h, w), C one of the :data:`~vc.deploy.heatmaps.LAYOUTS`: with or
-    without centre offsets, or, from networks trained before the handedness maps, ``ANATOMICAL_CHANNELS``.
+    without centre offsets, with or without the fine centre map (which it does not read).
     ``expected_height_px`` (h, w): the pixel height of a person whose centre is at each cell, from the region's
     camera; None falls back to ``config.default_height_px``.
 
@@ -251,9 +254,11 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     which come out as they would without them."""
     stride = config.stride
     channels, height, width = heatmaps.shape
+    if channels == ANATOMICAL_CHANNELS:
+        raise ValueError(f"heat maps have {channels} channels, the layout of networks from before the handedness "
+                         f"maps, which this version does not decode (docs/decisions/0003-decoder-settings.md)")
     if channels not in LAYOUTS:
         raise ValueError(f"heat maps have {channels} channels; a ScenePoseNet emits one of the layouts {LAYOUTS}")
-    image_ordered = channels != ANATOMICAL_CHANNELS
 
     def heights_px_at(xy_cells: np.ndarray) -> np.ndarray:
         if expected_height_px is None:
@@ -263,20 +268,11 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
         return expected_height_px[rows, columns].astype(float)
 
     floor = config.centre_threshold if weak_above is None else min(weak_above, config.centre_threshold)
-    # The centre map the peaks are found on: the fine one where the network draws it, its positions then brought to
-    # cells like every other map's.
-    fine = channels == FINE_CHANNELS and config.fine_centre_peaks
-    if fine:
-        centre_map = fine_centre_map(heatmaps[FINE_CENTRE_CHANNELS])
-        peaks = [(score, fine_to_cells(position)) for score, position in
-                 find_peaks(centre_map, floor, config.max_people)]
-    else:
-        centre_map = heatmaps[CENTRE_CHANNEL]
-        peaks = find_peaks(centre_map, floor, config.max_people)
+    centre_map = heatmaps[CENTRE_CHANNEL]
+    peaks = find_peaks(centre_map, floor, config.max_people)
 
     def centre_value_at(centre_cells: np.ndarray) -> float:
-        xy = cells_to_fine(centre_cells) if fine else centre_cells
-        column, row = np.clip(np.round(xy).astype(int), 0, [centre_map.shape[1] - 1, centre_map.shape[0] - 1])
+        column, row = np.clip(np.round(centre_cells).astype(int), 0, [width - 1, height - 1])
         return float(centre_map[row, column])
 
     centres_cells = np.array([centre for _, centre in peaks]).reshape(-1, 2)
@@ -316,20 +312,18 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     owner_among_strong = strong_indices[np.argmin(scaled[strong_indices], axis=0)] if len(strong_indices) else owner
 
     keypoint_maps = heatmaps[KEYPOINT_CHANNELS]
-    shared_out = (dict(zip(strong_indices, _exclusive_keypoints(keypoint_maps, centres_cells[strong],
-                                                                heights_cells[strong], config), strict=True))
-                  if config.exclusive_keypoints else {})
+    # Strong people share out the keypoint peaks (step 2); weak ones search their own, taking nothing from them.
+    shared_out = dict(zip(strong_indices, _exclusive_keypoints(keypoint_maps, centres_cells[strong],
+                                                               heights_cells[strong], config), strict=True))
     searched = [index for index in range(len(peaks)) if index not in shared_out]
     own_keypoints = dict(zip(searched, _keypoints(keypoint_maps, centres_cells[searched], heights_cells[searched],
                                                   config), strict=True))
     keypoints = np.stack([shared_out[index] if index in shared_out else own_keypoints[index]
                           for index in range(len(peaks))])  # (N, 17, 3)
-    pair_handedness = None
-    if image_ordered:
-        centre_rows, centre_columns = (np.round(centres_cells[:, ::-1]).astype(int)).T
-        pair_handedness = heatmaps[HANDEDNESS_CHANNELS][:, centre_rows, centre_columns].T  # (N, pairs)
-        # A negative handedness: the pair's image-left member is the person's right one.
-        keypoints = swap_pairs(keypoints, pair_handedness < 0)
+    centre_rows, centre_columns = (np.round(centres_cells[:, ::-1]).astype(int)).T
+    pair_handedness = heatmaps[HANDEDNESS_CHANNELS][:, centre_rows, centre_columns].T  # (N, pairs)
+    # A negative handedness: the pair's image-left member is the person's right one.
+    keypoints = swap_pairs(keypoints, pair_handedness < 0)
     within_reach = ((np.abs(mask_columns[None] - centres_cells[:, 0, None])
                      <= config.reach_sideways * heights_cells[:, None])
                     & (np.abs(mask_rows[None] - centres_cells[:, 1, None])
@@ -343,8 +337,7 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
         mask_cells = np.zeros((height, width), bool)
         mask_cells[mask_rows[owned[index]], mask_columns[owned[index]]] = True
         people.append(DecodedPerson(score=score, centre=centres[index], keypoints=keypoints[index], box=boxes[index],
-                                    mask_cells=mask_cells,
-                                    pair_handedness=None if pair_handedness is None else pair_handedness[index],
+                                    mask_cells=mask_cells, pair_handedness=pair_handedness[index],
                                     weak=not strong[index]))
     return people
 
@@ -352,7 +345,7 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
 def _keypoints(keypoint_maps: np.ndarray, centres_cells: np.ndarray, heights_cells: np.ndarray,
                config: DecodeConfig) -> np.ndarray:
     """(N, 17, 3) keypoints of the N people at ``centres_cells``: each the maximum of its map times the person's
-    upright prior.
+    upright prior (weak people's, step 2).
 
     A person's search covers the cells within 3 prior widths of the expected position (beyond that the prior is
     below 1 %), which keeps their cost independent of the region's size. All people are searched at once, in
@@ -408,7 +401,7 @@ def _keypoints(keypoint_maps: np.ndarray, centres_cells: np.ndarray, heights_cel
 def _exclusive_keypoints(keypoint_maps: np.ndarray, centres_cells: np.ndarray, heights_cells: np.ndarray,
                          config: DecodeConfig) -> np.ndarray:
     """(N, 17, 3) keypoints of the N people at ``centres_cells`` with each keypoint peak given to one person at
-    most (step 2b): per keypoint map, every (person, peak) pair is scored by the peak's value times the person's
+    most (step 2): per keypoint map, every (person, peak) pair is scored by the peak's value times the person's
     upright prior (as in :func:`_keypoints`, cut at 3 prior widths), and pairs are taken best first while both
     are free. A person who gets no peak has the keypoint at its upright position, with the map's value there."""
     count, channels = len(centres_cells), keypoint_maps.shape[0]
@@ -594,12 +587,12 @@ def _boxes(centres: np.ndarray, heights_px: np.ndarray, keypoints: np.ndarray, o
            mask_columns: np.ndarray, config: DecodeConfig) -> np.ndarray:
     """(N, 4) boxes of the N people at ``centres`` (input px) with expected ``heights_px``, ``keypoints`` (N, 17, 3)
     and ``owned`` (N, M) of the M foreground cells in ``mask_columns`` (see module docstring, step 4; all people at
-    once). Top and bottom from the highest confident head keypoint and the lowest confident ankle where
-    ``config.height_from_keypoints``: on the upright prior they lie ``offset`` person heights from the centre, so
-    their distance is the height times the difference of their offsets, and the head's top and the soles lie half a
-    height from the centre; otherwise, and where that height is more than ``keypoint_height_range`` times off the
-    expected one (a neighbour's ankle), the expected height centred on the centre. The width spans the confident
-    keypoints and the mask cells within reach sideways, plus a margin, and is at least ``min_width``."""
+    once). Top and bottom from the highest confident head keypoint and the lowest confident ankle: on the upright
+    prior they lie ``offset`` person heights from the centre, so their distance is the height times the difference
+    of their offsets, and the head's top and the soles lie half a height from the centre; without both, and where
+    that height is more than ``keypoint_height_range`` times off the expected one (a neighbour's ankle), the
+    expected height centred on the centre. The width spans the confident keypoints and the mask cells within reach
+    sideways, plus a margin, and is at least ``min_width``."""
     count = len(centres)
     x, y = keypoints[..., 0], keypoints[..., 1]
     confident = keypoints[..., 2] >= config.keypoint_threshold  # (N, 17)
@@ -619,18 +612,17 @@ def _boxes(centres: np.ndarray, heights_px: np.ndarray, keypoints: np.ndarray, o
     right = np.maximum(highest - centres[:, 0] + margin, half_min)
 
     top, bottom = centres[:, 1] - heights_px / 2, centres[:, 1] + heights_px / 2
-    if config.height_from_keypoints:
-        heads = confident[:, HEAD_KEYPOINTS]
-        ankles = confident[:, ANKLE_KEYPOINTS]
-        both = heads.any(axis=1) & ankles.any(axis=1)
-        head = HEAD_KEYPOINTS[np.argmin(np.where(heads, y[:, HEAD_KEYPOINTS], np.inf), axis=1)]
-        ankle = ANKLE_KEYPOINTS[np.argmax(np.where(ankles, y[:, ANKLE_KEYPOINTS], -np.inf), axis=1)]
-        people = np.arange(count)
-        head_y, ankle_y = y[people, head], y[people, ankle]
-        height = (ankle_y - head_y) / (LOWER_ANKLE_OFFSET - UPRIGHT_OFFSETS[head])
-        ratio = height / heights_px
-        from_keypoints = both & (1.0 / config.keypoint_height_range <= ratio) & (ratio <= config.keypoint_height_range)
-        keypoint_top = head_y - (0.5 + UPRIGHT_OFFSETS[head]) * height
-        top = np.where(from_keypoints, keypoint_top, top)
-        bottom = np.where(from_keypoints, keypoint_top + height, bottom)
+    heads = confident[:, HEAD_KEYPOINTS]
+    ankles = confident[:, ANKLE_KEYPOINTS]
+    both = heads.any(axis=1) & ankles.any(axis=1)
+    head = HEAD_KEYPOINTS[np.argmin(np.where(heads, y[:, HEAD_KEYPOINTS], np.inf), axis=1)]
+    ankle = ANKLE_KEYPOINTS[np.argmax(np.where(ankles, y[:, ANKLE_KEYPOINTS], -np.inf), axis=1)]
+    people = np.arange(count)
+    head_y, ankle_y = y[people, head], y[people, ankle]
+    height = (ankle_y - head_y) / (LOWER_ANKLE_OFFSET - UPRIGHT_OFFSETS[head])
+    ratio = height / heights_px
+    from_keypoints = both & (1.0 / config.keypoint_height_range <= ratio) & (ratio <= config.keypoint_height_range)
+    keypoint_top = head_y - (0.5 + UPRIGHT_OFFSETS[head]) * height
+    top = np.where(from_keypoints, keypoint_top, top)
+    bottom = np.where(from_keypoints, keypoint_top + height, bottom)
     return np.stack([centres[:, 0] - left, top, centres[:, 0] + right, bottom], axis=1)

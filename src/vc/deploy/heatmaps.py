@@ -13,10 +13,12 @@ were decoded as one point, and PCKh stayed at 0.70). Which member is further lef
 is the left one depends on which way the person faces and how they stride, a property of the whole figure that
 the handedness maps carry over the person's pixels and the decoder reads at the centre.
 
-Networks trained before the handedness maps emit :data:`ANATOMICAL_CHANNELS` maps with the pairs in anatomical
-order and no handedness; the decoder tells the two layouts apart by their channel count.
+The first networks emitted :data:`ANATOMICAL_CHANNELS` maps, the pairs in anatomical order and no handedness: a
+layout this version neither trains nor decodes, whose bundles and checkpoints are refused
+(docs/decisions/0003-decoder-settings.md). The layouts it has (:data:`LAYOUTS`) differ by the maps they add at the
+end, and the decoder tells them apart by their channel count.
 
-Pixel convention (DESIGN.md): the centre of the top-left pixel is (0, 0). A heat map at output stride ``s``
+Pixel convention (docs/design.md): the centre of the top-left pixel is (0, 0). A heat map at output stride ``s``
 has cell ``j`` covering input pixels ``j*s .. j*s + s - 1``, so its centre lies at input ``j*s + (s - 1)/2``.
 """
 
@@ -36,6 +38,7 @@ PAIRS: tuple[tuple[int, int], ...] = tuple(
 _LEFT_MEMBERS, _RIGHT_MEMBERS = (np.array(members) for members in zip(*PAIRS, strict=True))
 HANDEDNESS_CHANNELS = slice(MASK_CHANNEL + 1, MASK_CHANNEL + 1 + len(PAIRS))
 HEATMAP_CHANNELS = HANDEDNESS_CHANNELS.stop
+#: The retired layout's channel count (centre, 17 keypoints in anatomical order, mask): what a refusal names.
 ANATOMICAL_CHANNELS = MASK_CHANNEL + 1
 #: Two maps after the handedness ones, in networks trained to emit them: over each person's pixels, the (x, y) from
 #: the cell to that person's own centre, in the person's heights. Every pixel votes for the person it belongs to,
@@ -46,14 +49,16 @@ OFFSET_CHANNELS = CENTRE_OFFSET_CHANNELS.stop
 #: Four maps after the offsets, in networks trained to emit them: the centre map at twice the heat maps' resolution
 #: (:data:`FINE_FACTOR`), stored space-to-depth — map ``2 dy + dx`` holds the fine cells (2 r + dy, 2 c + dx) at cell
 #: (r, c) (:func:`fine_centre_map`). Two people one behind another stand 1.5-2 cells apart at a 48 px person's
-#: stride-4 cells, where one centre peak can only be found for both (benchmarks/results/groups_pets09.md); on the
-#: fine grid they are 3-4 cells apart. Four channels of the last 1x1 convolution cost next to nothing at run time.
+#: stride-4 cells, where one centre peak can only be found for both; on the fine grid they are 3-4 cells apart.
+#: Learning it is what separates them; the decoder reads the coarse map's peaks
+#: (docs/decisions/0010-fine-centre-map.md). Four channels of the last 1x1 convolution cost next to nothing at run
+#: time.
 FINE_FACTOR = 2
 FINE_CENTRE_CHANNELS = slice(OFFSET_CHANNELS, OFFSET_CHANNELS + FINE_FACTOR**2)
 FINE_CHANNELS = FINE_CENTRE_CHANNELS.stop
-#: Every layout a network emits, by its channel count: anatomical pairs (before handedness), image-ordered pairs
-#: with handedness, those with the centre offsets, and those with a fine centre map too.
-LAYOUTS = (ANATOMICAL_CHANNELS, HEATMAP_CHANNELS, OFFSET_CHANNELS, FINE_CHANNELS)
+#: Every layout a network emits, by its channel count: image-ordered pairs with handedness, those with the centre
+#: offsets, and those with a fine centre map too.
+LAYOUTS = (HEATMAP_CHANNELS, OFFSET_CHANNELS, FINE_CHANNELS)
 
 
 def swap_pairs(keypoints: np.ndarray, swapped) -> np.ndarray:
@@ -68,9 +73,7 @@ def swap_pairs(keypoints: np.ndarray, swapped) -> np.ndarray:
 
 
 def channel_names(channels: int = HEATMAP_CHANNELS) -> tuple[str, ...]:
-    """What each map of a network's output holds (written into bundles), for either layout."""
-    if channels == ANATOMICAL_CHANNELS:
-        return ("centre", *COCO_KEYPOINTS, "mask")
+    """What each map of a network's output holds (written into bundles), for each of the :data:`LAYOUTS`."""
     if channels not in LAYOUTS:
         raise ValueError(f"no heat-map layout has {channels} channels")
     slots = [name.replace("left_", "").replace("right_", "") + ("_image_left" if name.startswith("left_") else
@@ -101,14 +104,9 @@ def fine_centre_channels(fine: np.ndarray) -> np.ndarray:
     return blocks.transpose(order).reshape(*batch, FINE_FACTOR**2, height, width)
 
 
-def fine_to_cells(xy: np.ndarray) -> np.ndarray:
-    """Fine centre-map coordinates -> heat-map cell coordinates (both with cell centres at integers: a fine cell of
-    stride s / 2 and a cell of stride s: a cell is FINE_FACTOR fine cells as a fine cell is s / 2 pixels)."""
-    return input_to_cells(xy, FINE_FACTOR)
-
-
 def cells_to_fine(xy: np.ndarray) -> np.ndarray:
-    """Heat-map cell coordinates -> fine centre-map coordinates (inverse of :func:`fine_to_cells`)."""
+    """Heat-map cell coordinates -> fine centre-map coordinates (both with cell centres at integers: a cell of
+    stride s is FINE_FACTOR fine cells of stride s / 2 as a fine cell is s / 2 pixels)."""
     return cells_to_input(xy, FINE_FACTOR)
 
 

@@ -27,20 +27,18 @@ from vc.deploy.bundle import Bundle, RegionEntry, load_bundle
 from vc.deploy.decode import DecodeConfig, DecodedPerson, decode
 from vc.errors import InputError
 
-#: Two people of different regions overlapping more than this are one person seen by both (module docstring).
-#: Since benchmarks/results/seam_duplicates.md: on the six PETS09 and TUD bundles, 0.6 and 0.7 both raised real
-#: AP50 each frame and tracked, all twelve (0.6 by 0.001-0.007); 0.5 lost 0.006 tracked on one.
+#: Two people of different regions overlapping more than this are one person seen by both (module docstring); lower,
+#: people one behind another at a seam are lost (docs/decisions/0003-decoder-settings.md).
 SEAM_DUPLICATE_IOU = 0.6
 #: How far across a seam, in the person's box heights (up or down the image), a region keeps a person whose feet it
 #: puts in a neighbour's owned area (module docstring). Beyond the outer edge of the regions it keeps no one: no
-#: region owns that ground. Since benchmarks/results/seam_tolerance.md: on TUD-Stadtmitte's eye-level camera, where
-#: a few pixels of foot are a metre of depth, a quarter of the missed people had been found by the region beside the
-#: seam and dropped there.
+#: region owns that ground. On an eye-level camera a few pixels of foot are a metre of depth: without it, people the
+#: region beside the seam found are dropped there (docs/decisions/0003-decoder-settings.md).
 SEAM_FOOT_TOLERANCE = 0.1
 #: A person kept across a seam who overlaps another region's person by more than this is that person, seen from
 #: the side (:func:`without_seam_duplicates`). Lower than SEAM_DUPLICATE_IOU: letting the stronger of such a pair
-#: win, or dropping it only above SEAM_DUPLICATE_IOU, doubled people at the seams (TUD-Stadtmitte MOTA 0.67 -> 0.62,
-#: benchmarks/results/seam_tolerance.md).
+#: win, or dropping it only above SEAM_DUPLICATE_IOU, doubles people at the seams
+#: (docs/decisions/0003-decoder-settings.md).
 ACROSS_SEAM_DUPLICATE_IOU = 0.3
 
 

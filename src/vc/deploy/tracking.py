@@ -15,9 +15,9 @@ knowing the camera:
   walk toward it: seen from the front (handedness < 0).
 
 People are upright in the views this project compiles (the decoder's prior assumes it), so the image axis is
-taken as the image vertical. Checked on ground-truth tracks (benchmarks/facing_from_motion.py,
-benchmarks/results/tracking_real.md): the sign of the vertical foot motion agrees with YOLO11n-pose's reading
-of the shoulders for 90 % (PETS09) and 88 % (TUD-Stadtmitte) of the people whose facing it can read.
+taken as the image vertical. Checked on ground-truth tracks: the sign of the vertical foot motion agrees with
+YOLO11n-pose's reading of the shoulders for most people whose facing it can read
+(docs/decisions/0007-facing-and-tracking.md).
 
 Why carry people through frames: a network on single frames loses people for a frame or two when someone walks
 in front of them or their appearance flickers, most in crowds (TUD-Stadtmitte at 25 frames/s). A track seen a few
@@ -107,8 +107,8 @@ class TrackingConfig:
     coast_score_decay_s: float = 1.0
     coast_duplicate_iou: float = 0.7
     # With frames given to update(): what a complete mismatch of clothing colours adds to a pair's distance, in
-    # heights (0: motion alone). 0.3 since benchmarks/results/tracking_appearance.md: people walking close together
-    # swap tracks less (TUD-Stadtmitte 135 -> 114 identity switches, IDF1 0.56 -> 0.60; PETS09 IDF1 0.79 -> 0.82)
+    # heights (0: motion alone): people walking close together swap tracks less
+    # (docs/decisions/0007-facing-and-tracking.md).
     appearance_weight: float = 0.3
     # The runtime also decodes centre peaks down to this, as weak people (Runtime(weak_people_above=...)): a weak
     # person only continues a track seen coast_min_observations times, and is dropped otherwise.
@@ -172,8 +172,8 @@ def facing_pairs(person: Person, seen_from_behind: bool) -> np.ndarray:
     """The person's keypoints (17, 3) with each left/right pair ordered as a facing implies: the network's
     image-left member is the left one for a person seen from behind, the right one for a person seen from the
     front. The decoder ordered pair k by the sign of ``pair_handedness[k]``; a pair whose sign disagrees is
-    exchanged. Without handedness maps (pairs decoded in anatomical order) the members' x order stands in for the
-    network's image order."""
+    exchanged. A person without handedness (not decoded from a network's maps) has the members' x order stand in for
+    the network's image order."""
     if person.pair_handedness is not None:
         return swap_pairs(person.keypoints, (person.pair_handedness >= 0) != seen_from_behind)
     image_left_first = [person.keypoints[left, 0] <= person.keypoints[right, 0] for left, right in PAIRS]

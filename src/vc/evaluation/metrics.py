@@ -1,4 +1,4 @@
-"""Accuracy metrics, one implementation for tests, training, benchmarks and ``vc-eval`` (DESIGN.md, "Metrics").
+"""Accuracy metrics, one implementation for tests, training, benchmarks and ``vc-eval`` (docs/design.md, "Metrics").
 
 * Detection: average precision at IoU 0.5, all-point interpolated (VOC 2010 and later): detections of all
   images sorted by score, each greedily matched to the unmatched ground-truth box of highest IoU >= 0.5 in its

@@ -1,1 +1,1 @@
-"""ScenePoseNet, target encoding, the dataset reader, training, metrics and ONNX export (DESIGN.md "Model")."""
+"""ScenePoseNet, target encoding, the dataset reader, training, metrics and ONNX export (docs/design.md, "Model")."""

@@ -1,10 +1,11 @@
-"""Typed, JSON-serialisable ScenePoseNet configurations and the named presets (DESIGN.md, "Model: ScenePoseNet").
+"""Typed, JSON-serialisable ScenePoseNet configurations and the named presets (docs/design.md, "Model: ScenePoseNet").
 
 A checkpoint and an exported bundle must be able to rebuild the exact network they were trained with, so the
 architecture is a frozen value written next to the weights (``to_dict``) and read back by pydantic
 (``from_dict``): an unknown field is an error (a newer writer) instead of a silently different network, and a
-field the writer predates takes the value that reproduces the network it wrote. That is the field's default, by
-the rule every new field follows, except ``heatmap_channels``, whose default changed when the handedness maps came.
+field the writer predates takes the value that reproduces the network it wrote: the field's default, by the rule
+every new field follows. The one exception is ``heatmap_channels``: a config without it describes a network of the
+retired 19-map layout, which is refused (:func:`stored_network_fields`).
 """
 
 from __future__ import annotations
@@ -16,10 +17,11 @@ from pydantic import TypeAdapter
 
 # The output heat maps' layout (centre, 17 COCO keypoints, mask, handedness) is the decoder's: one definition,
 # in deploy.
+from vc.deploy.decode import RetiredSetting
 from vc.deploy.heatmaps import ANATOMICAL_CHANNELS, HEATMAP_CHANNELS, LAYOUTS
 
-__all__ = ["ANATOMICAL_CHANNELS", "DEFAULT_ARCH", "HEATMAP_CHANNELS", "PRESETS", "STEMS", "STEM_STRIDES",
-           "NetworkConfig", "network_config"]
+__all__ = ["DEFAULT_ARCH", "HEATMAP_CHANNELS", "PRESETS", "STEMS", "STEM_STRIDES", "NetworkConfig",
+           "network_config"]
 
 STEM_STRIDES = (1, 2, 4)
 #: How the stem downsamples: "conv", the paper's 5x5 (strided, and a strided 3x3 after it for stride 4); "patch",
@@ -53,7 +55,7 @@ class NetworkConfig:
     # bottleneck whose one k x k runs at width/r channels (He et al., 2016), about 2r^2 times cheaper
     sb_separable: bool = False  # SB large kernels as a dense k x 1 then 1 x k (same window, 2/k of the cost)
     belief_channels: int = HEATMAP_CHANNELS  # belief maps each SB unit emits through its 1x1 path
-    heatmap_channels: int = HEATMAP_CHANNELS  # output maps, one of LAYOUTS (ANATOMICAL_CHANNELS: before handedness)
+    heatmap_channels: int = HEATMAP_CHANNELS  # output maps, one of LAYOUTS
     stem: Literal["conv", "patch"] = "conv"  # see STEMS
 
     def __post_init__(self) -> None:
@@ -87,14 +89,20 @@ class NetworkConfig:
     @classmethod
     def from_dict(cls, data: dict) -> NetworkConfig:
         """The config written by :meth:`to_dict` (see the module docstring); raises pydantic's ValidationError (a
-        ValueError) naming the offending fields."""
+        ValueError) naming the offending fields, or :class:`~vc.deploy.decode.RetiredSetting` (one too) for a
+        network of the retired layout."""
         return _NETWORK_CONFIG.validate_python(stored_network_fields(data))
 
 
 def stored_network_fields(data: dict) -> dict:
-    """A stored network config with the values of fields its writer predates that differ from today's defaults:
-    networks written before the handedness maps emit the :data:`ANATOMICAL_CHANNELS` maps."""
-    return {"heatmap_channels": ANATOMICAL_CHANNELS, **data} if isinstance(data, dict) else data
+    """A stored network config as this version reads it. One without ``heatmap_channels`` (written before the
+    field) or with :data:`~vc.deploy.heatmaps.ANATOMICAL_CHANNELS` describes a network of the retired 19-map layout,
+    which nothing here trains, exports or decodes: :class:`~vc.deploy.decode.RetiredSetting`."""
+    if isinstance(data, dict) and data.get("heatmap_channels", ANATOMICAL_CHANNELS) == ANATOMICAL_CHANNELS:
+        raise RetiredSetting("heatmap_channels", f"a network of {ANATOMICAL_CHANNELS} heat maps (the layout from "
+                                                 "before the handedness maps), which this version does not decode "
+                                                 "(docs/decisions/0003-decoder-settings.md)")
+    return data
 
 
 _NETWORK_CONFIG = TypeAdapter(NetworkConfig)
@@ -108,14 +116,13 @@ PRESETS: dict[str, NetworkConfig] = {
     # train than "dense9" at the same input.
     "fast": NetworkConfig("fast", stem_stride=4, width=32, residual_units=2, sb_kernel=13, sb_reduction=2,
                           sb_depthwise=False, intermediate_supervision=True),
-    # The default: "fast" with each 13x13 as a 13x1 then a 1x13 (same receptive field, 2/13 of those multiply-adds,
-    # which were 45 % of the int8 network time of PETS09's largest region). On PETS09, three seeds each: real AP50
-    # 0.908 against 0.900, training 0.80x, int8 runtime 0.72x in turn (benchmarks/results/separable_pets09.md).
+    # The default: "fast" with each 13x13 as a 13x1 then a 1x13 (same receptive field, 2/13 of those multiply-adds):
+    # real AP50 held on PETS09, training and the int8 network faster (docs/decisions/0004-network-architecture.md).
     "fast-sep": NetworkConfig("fast-sep", stem_stride=4, width=32, residual_units=2, sb_kernel=13, sb_reduction=2,
                               sb_depthwise=False, sb_separable=True, intermediate_supervision=True),
     # "fast-sep" with a patch stem (STEMS): a 4x4, stride 4 convolution in place of the 5x5 at half resolution and
-    # the strided 3x3 after it. 0.82x fast-sep's int8 network time over PETS09's three regions (one thread), and
-    # lower real AP50 in every seed (benchmarks/results/stem_pets09.md): a faster point, not the default.
+    # the strided 3x3 after it: faster, but lower real AP50 in every seed, so a faster point and not the default
+    # (docs/decisions/0004-network-architecture.md).
     "fast-patch": NetworkConfig("fast-patch", stem_stride=4, width=32, residual_units=2, sb_kernel=13,
                                 sb_reduction=2, sb_depthwise=False, sb_separable=True, intermediate_supervision=True,
                                 stem="patch"),

@@ -2,7 +2,7 @@
 jittered and encoded as targets, as torch tensors.
 
 Training draws windows of the region input (:class:`CropPolicy`); augmentation only adds what the renderer
-cannot vary yet (DESIGN.md): exposure and contrast (until photometric calibration estimates them) and sensor
+cannot vary yet (docs/design.md): exposure and contrast (until photometric calibration estimates them) and sensor
 noise (not simulated). Geometry is never augmented: a flipped or rescaled sample would no longer be the scene's
 own perspective.
 """

@@ -1,4 +1,4 @@
-"""A trained region network as an ONNX graph an appliance can run as is (DESIGN.md, "Bundle").
+"""A trained region network as an ONNX graph an appliance can run as is (docs/design.md, "Bundle").
 
 The graph takes the region's crop of the frame exactly as the camera delivers it — uint8, (1, crop height,
 crop width, 3), RGB — and does the rest itself: resize to the network input (bilinear, half-pixel centres, as

@@ -5,11 +5,8 @@ by the target mask (an offset means something only on a person's pixels; L1, as 
 cells on the border between two people, whose owner is a coin toss, do not dominate). For networks with a fine
 centre map, alpha times its MSE too (its Gaussians are as wide in pixels as the coarse map's, so the two errors
 are of one size): the centre map then takes twice its share of the loss. Weighing the mean of the two instead
-(alpha x (coarse + fine) / 2) kept more of the held-out renders' PCKh (TUD-Stadtmitte's near region 0.62 -> 0.77,
-PETS09 0.57 -> 0.60) but less on the real frames, where pose and people are judged: on PETS09, three seeds, pose
-agreement with YOLO11n-pose equal (0.756, read at the fine map's peaks), tracked AP50 0.958 -> 0.949 and people
-overlapping another 0.930 -> 0.907 (the coarse map's peaks); on TUD-Stadtmitte, one seed, AP50 0.885 -> 0.847 and
-pose agreement 0.652 -> 0.632 (the fine map's peaks) (benchmarks/results/fine_centre_pets09.md).
+kept more of the held-out renders' PCKh but less of the real frames, where pose and people are judged
+(docs/decisions/0010-fine-centre-map.md).
 
 Each term is a mean squared error over its heat-map pixels (the pose and handedness terms the mean over their
 maps; the offsets' term their mask-weighed absolute error, averaged likewise).

@@ -1,4 +1,4 @@
-"""ScenePoseNet: the fully convolutional detector, pose estimator and segmenter of the paper (DESIGN.md, "Model").
+"""ScenePoseNet: the fully convolutional detector, pose estimator and segmenter of the paper (docs/design.md, "Model").
 
 A 5x5 stem convolution (strided in the CPU presets; or one convolution over non-overlapping patches), 3x3 residual
 units, then spatial-belief (SB) units: each refines the features with a residual path of large-kernel convolutions,

@@ -35,11 +35,11 @@ from vc.model.quantized_input import network_input_overrides, quantize_pixels_di
 from vc.render.dataset import Sample, read_sample
 
 PRECISIONS = ("fp32", "fp16", "int8")
-#: Every operator type of the network once batch norm is folded into the convolutions (DESIGN.md, "Model"). The
+#: Every operator type of the network once batch norm is folded into the convolutions (docs/design.md, "Model"). The
 #: ReLUs must be among them: quantized with the convolution before them, onnxruntime drops each ReLU into that
 #: convolution's output range (zero point 0); left out, every convolution's output was dequantized, rectified in float
-#: and quantized again. With them the networks ran 0.89-0.91x the time on one core, and their heat maps came closer
-#: to fp32 (mean error 0.00059 -> 0.00051 on a PETS09 region; benchmarks/results/int8_relu.md).
+#: and quantized again. With them the networks run faster and their heat maps come closer to fp32
+#: (docs/decisions/0004-network-architecture.md).
 QUANTIZED_OPS = ("Conv", "Relu", "Add", "Concat")
 #: ``auto`` keeps int8 for a region when its held-out AP50 and PCKh@0.5 fall by at most this much from fp32.
 AUTO_TOLERANCE = {"ap50": 0.01, "pckh": 0.02}

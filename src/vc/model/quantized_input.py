@@ -8,11 +8,11 @@ so :func:`quantize_pixels_directly` replaces the three float operators and the q
 pixels (step 1, zero point 0) and moves what separates the two — code 128 stood for pixel 127.5, the centre; now it
 stands for pixel 128 — into the first convolution's bias, where a constant input offset belongs.
 
-Why: the three float operators were 2.5–4 % of a PETS09 region network's time on one core, and the quantizer
-rounded half-way values to even codes, so every odd pixel value reached the network as the even one above it
-(benchmarks/results/int8_relu.md). The first convolution pads with its input zero point, real value 0, mid-grey
-as in training, before and after; only at the border does the bias carry the half-level offset for taps that fall
-on padding, a 1/255 difference.
+Why: the three float operators cost a few percent of a region network's time, and the quantizer rounded half-way
+values to even codes, so every odd pixel value reached the network as the even one above it
+(docs/decisions/0004-network-architecture.md). The first convolution pads with its input zero point, real value 0,
+mid-grey as in training, before and after; only at the border does the bias carry the half-level offset for taps
+that fall on padding, a 1/255 difference.
 """
 
 from __future__ import annotations

@@ -29,7 +29,7 @@ from tqdm import tqdm
 
 from vc.calibration.camera import camera_from_dict
 from vc.cores import cpu_facts, usable_cores
-from vc.deploy.decode import DecodeConfig
+from vc.deploy.decode import DecodeConfig, RetiredSetting, stored_decode_fields
 from vc.deploy.heatmaps import FINE_CHANNELS, HEATMAP_CHANNELS, OFFSET_CHANNELS
 from vc.errors import InputError, StageError
 from vc.evaluation.plots import plot_precision_recall, plot_training_curve
@@ -88,7 +88,7 @@ class TrainConfig:
         object.__setattr__(self, "codec", replace(self.codec, stride=stride))
         object.__setattr__(self, "decode", replace(self.decode, stride=stride))
         # Asked to draw the centre offsets (and the fine centre map), the codec decides the network's maps: it emits
-        # (and, supervised, believes) them too. A stored network of an older layout is left as it was written.
+        # (and, supervised, believes) them too.
         drawn = self.codec.channels
         if drawn != HEATMAP_CHANNELS and self.network.heatmap_channels != drawn:
             believed = drawn if self.network.intermediate_supervision else self.network.belief_channels
@@ -107,10 +107,18 @@ class TrainConfig:
     def from_dict(cls, data: dict) -> TrainConfig:
         """The config written by :meth:`to_dict`, nested configs included, validated by pydantic: an unknown field
         anywhere is an error (a newer writer), a field the writer predates takes its default (the rule for a new
-        field: its default reproduces what the code did before it). Raises pydantic's ValidationError (a
-        ValueError); :func:`read_train_config` turns it into an InputError naming the field."""
-        if isinstance(data, dict) and "network" in data:
-            data = {**data, "network": stored_network_fields(data["network"])}
+        field: its default reproduces what the code did before it); a settled decoder switch at its settled value
+        is dropped (:func:`vc.deploy.decode.stored_decode_fields`). Raises pydantic's ValidationError (a
+        ValueError), or :class:`~vc.deploy.decode.RetiredSetting` (one too) for a decoding or a network layout
+        this version no longer has; :func:`read_train_config` turns either into an InputError naming the field."""
+        if isinstance(data, dict):
+            data = dict(data)
+            for section, stored in (("network", stored_network_fields), ("decode", stored_decode_fields)):
+                if section in data:
+                    try:
+                        data[section] = stored(data[section])
+                    except RetiredSetting as error:
+                        raise RetiredSetting(f"{section}.{error.field}", error.reason) from None
         return _TRAIN_CONFIG.validate_python(data)
 
 
@@ -132,9 +140,13 @@ def centre_map_settings(sigma: float) -> dict:
 
 def read_train_config(data: dict, path: Path) -> TrainConfig:
     """:meth:`TrainConfig.from_dict` for the config stored in the file at ``path``: one InputError naming the file
-    and the first offending field (``train_config.<field>``), every problem in its reason."""
+    and the first offending field (``train_config.<field>``), every problem in its reason. A decoding or a network
+    layout this version no longer has is refused the same way: the region is trained again with this version."""
     try:
         return TrainConfig.from_dict(data)
+    except RetiredSetting as error:
+        raise InputError(path, f"train_config.{error.field}", f"trained with {error.reason}; train the region "
+                                                              f"again with this version") from None
     except ValidationError as error:
         problems = error.errors()
         where = [".".join(str(part) for part in problem["loc"]) for problem in problems]
@@ -153,16 +165,15 @@ def native_bf16() -> bool:
     return bool(cpu_facts()[1])
 
 
-#: Most data-loading processes feeding one GPU: 12 kept an H200 training the fast network at 600-720 images/s,
-#: its data, not its arithmetic, the limit (benchmarks/results/compile_gpu_pets09.md).
+#: Most data-loading processes feeding one GPU: on an H200 the data, not the arithmetic, limits training
+#: (docs/decisions/0008-compile-time.md).
 GPU_DATA_WORKERS = 12
 
 
 #: Up to this many usable cores, the CPU's windows are cut in the training process itself: a loader process
 #: would be a third busy thread on two cores, and the step's threads, which meet at every operator, wait for
-#: whichever of them the scheduler parked. On 2 cores a whole PETS09 standard training took 1 050 s in-process
-#: against 1 215 s with a loader process (even at the lowest priority the process cost 3 of its 7 s per 240
-#: steps), the same weights (benchmarks/results/loader_placement.md).
+#: whichever of them the scheduler parked: in-process, a 2-core training is faster, with the same weights
+#: (docs/decisions/0008-compile-time.md).
 IN_PROCESS_LOADING_CORES = 2
 
 

@@ -57,7 +57,8 @@ def _jpeg_dict(estimate: JpegEstimate) -> dict:
 
 def measured_frames(video: Path) -> FrameRange:
     """Up to :data:`VIDEO_FRAMES` frames spread over the first :data:`VIDEO_SPAN` (fewer in a shorter video): the
-    frames measured, which are all a copy of the scene needs of its video (``benchmarks/device/pack_scene_gpu.sh``)."""
+    frames measured, which are all a copy of the scene needs of its video
+    (``experiments/2026-11-26-compile-time/device/pack_scene_gpu.sh``)."""
     span = min(VIDEO_SPAN, len(FrameSource(video)))
     return FrameRange(1, span, max(1, span // VIDEO_FRAMES))
 

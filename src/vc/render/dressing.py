@@ -3,10 +3,8 @@
 A bare anny body is the skin. Real passers-by stand taller and wider than their skin: hair or a hood over the
 scalp, a coat over the torso, soles under the feet. A detector trained on bare bodies learns where the joints lie
 from the silhouette of the skin — on a real person in a hat, a parka and shoes it puts the face too high and
-the ankles too low. Measured on PETS09's dev frames against YOLO11n-pose @1280 (three bundles rendered bare):
-the face 0.14-0.29 head sizes above the reference's (the nose most), the ankles 0.08-0.14 below, the skeleton
-stretched 3-7 % between eyes and ankles; rendered dressed, the stretch is gone and pose agreement rose from 0.743
-to 0.760 (`benchmarks/results/dressed_bodies_pets09.md`).
+the ankles too low. Rendered dressed, the skeleton sits inside a clothed outline as on real people
+(docs/decisions/0005-dressed-people.md).
 
 Every vertex moves out along its area-weighted normal by its part's thickness (``Appearance.part_thickness_m``),
 then the dressed person is stood on its soles (the lowest point back on z = 0; the joints, which clothes do

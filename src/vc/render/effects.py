@@ -1,5 +1,5 @@
 """Camera effects: each decides whether the scene needs it and why, takes its parameters from the scene, and
-acts on a sample where a camera would (DESIGN.md, "Effects: simulate only what the scene calls for").
+acts on a sample where a camera would (docs/design.md, "Effects: simulate only what the scene calls for").
 
 The order is the camera's:
 
@@ -50,7 +50,7 @@ RENDER_BLUR_PX = 0.43
 WARP_BLUR_VARIANCE_PX2 = 1.0 / 6.0
 #: Optical blur is simulated when it adds at least this much (region pixels) to the people in some region.
 MIN_ADDED_BLUR_PX = 0.25
-#: Motion blur is simulated when a walker moves more than this many pixels during one exposure (DESIGN.md).
+#: Motion blur is simulated when a walker moves more than this many pixels during one exposure (docs/design.md).
 MIN_MOTION_PX = 0.5
 #: The walking speed the motion-blur decision assumes (m/s; the gait sampler's preferred speed).
 WALKING_SPEED_MPS = 1.35

@@ -1,4 +1,4 @@
-"""Labels from geometry (DESIGN.md, "Rendering"): masks from coverage, keypoints from the camera model.
+"""Labels from geometry (docs/design.md, "Rendering"): masks from coverage, keypoints from the camera model.
 
 Nothing here thresholds image colours. Per person:
 

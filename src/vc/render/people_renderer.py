@@ -1,6 +1,6 @@
 """Render people into one region's view: one fixed Mitsuba scene, rays only where people and their shadows are.
 
-Speed comes from two things (DESIGN.md, "Rendering"):
+Speed comes from two things (docs/design.md, "Rendering"):
 
 * **Nothing is recompiled per sample.** The scene (layout, sun, sky and ``max_people`` mesh slots of the body
   topology) is built once per region; a sample only rewrites slot vertex positions and colours through
@@ -107,9 +107,9 @@ class PeopleRenderer:
         self.camera, self.spp, self.max_people, self.vertex_count = camera, spp, max_people, vertex_count
         self.shadows = shadows
         # OptiX (the CUDA variant's ray tracer) traces one scene per kernel: a kernel that also tests rays against
-        # the people-free scene gets those tests switched off ("more than one OptiX shader binding table"), seen
-        # on an H200 (benchmarks/results/compile_gpu_pets09.md). There the static scene's tests run in a kernel of
-        # their own; Embree (the CPU variant) has no such limit and keeps one kernel, and its bytes.
+        # the people-free scene gets those tests switched off ("more than one OptiX shader binding table";
+        # docs/decisions/0008-compile-time.md). There the static scene's tests run in a kernel of their own;
+        # Embree (the CPU variant) has no such limit and keeps one kernel, and its bytes.
         self.one_scene_per_kernel = mi.variant().startswith("cuda")
         self.view = ideal_view(camera)
         ideal = self.view.ideal

@@ -3,7 +3,7 @@
 Most people stand on the region's own ground polygon. Some are placed on purpose where detectors fail:
 
 * across the region's border (a ring of ground outside its polygon): the crop shows them, another region owns
-  them, and the network must still see them as people (DESIGN.md, "Regions": labelled in every crop);
+  them, and the network must still see them as people (docs/design.md, "Regions": labelled in every crop);
 * where an obstacle hides part of the body from the camera (:func:`hidden_ground`): right behind a bollard, but
   metres behind a raised sign, whose shadow from the camera falls on the torsos of people far beyond its post.
 

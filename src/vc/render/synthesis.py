@@ -1,6 +1,6 @@
 """One labelled training sample of one region: people sampled, posed, rendered, composited and labelled.
 
-Every sample is a pure function of (scene hash, region, sample index, seed) (DESIGN.md, "Conventions"):
+Every sample is a pure function of (scene hash, region, sample index, seed) (docs/design.md, "Conventions"):
 :func:`sample_rng` derives the one random generator a sample draws everything from — the number of people,
 where they stand, their bodies, clothes and gait, and the Mitsuba seed.
 

@@ -1,6 +1,6 @@
 """Region planning: split the visible walkable ground into regions, each with its own network.
 
-A region (DESIGN.md "Regions") has a ground polygon, an image crop window containing every person of the
+A region (docs/design.md "Regions") has a ground polygon, an image crop window containing every person of the
 allowed heights standing anywhere in that polygon (plus margin), a network input size (the crop resized so
 that people come out at ``target_person_px``, or at the region's own size in ``person_px_by_region``), and the
 image area it owns (where its polygon's foot points land). ``auto`` cuts the ground into depth bands inside

@@ -1,6 +1,6 @@
 """The scene description (YAML) as pydantic models: every field typed and validated.
 
-See DESIGN.md, "Scene description". Paths are kept as written; :mod:`vc.scenes.loader` resolves them relative
+See docs/design.md, "Scene description". Paths are kept as written; :mod:`vc.scenes.loader` resolves them relative
 to the YAML file and turns validation errors into one line naming the file and the field.
 """
 
@@ -24,7 +24,7 @@ Size = Annotated[list[Annotated[int, Field(gt=0)]], Field(min_length=2, max_leng
 #: Camera responses accepted: sRGB, linear, a pure gamma ("gamma 2.2"), or ``auto`` (fitted on the background
 #: where it shows one, :mod:`vc.calibration.response_fit`).
 RESPONSE_PATTERN = re.compile(r"^(srgb|linear|auto|gamma\s+\d+(\.\d+)?)$")
-#: Effects the renderer knows (DESIGN.md "Effects"); ``auto`` lets the scene decide which it needs.
+#: Effects the renderer knows (docs/design.md "Effects"); ``auto`` lets the scene decide which it needs.
 EFFECT_NAMES = ("lens_distortion", "shadows", "motion_blur", "optical_blur", "vignetting", "sensor_noise", "jpeg",
                 "defocus")
 
@@ -188,7 +188,7 @@ class NamedPolygon(StrictModel):
 
 
 class RegionPlanSpec(StrictModel):
-    """How the walkable area is split into regions, each with its own network (DESIGN.md "Regions").
+    """How the walkable area is split into regions, each with its own network (docs/design.md "Regions").
 
     ``auto`` cuts depth bands in which the height of a ``reference_height_m`` person in pixels varies by at most
     ``max_height_ratio``; ``single`` is the paper's SPN-G (one region for everything); ``explicit`` takes the

@@ -146,10 +146,10 @@ class CompileConfig(_Section):
         return self.model_dump(mode="json")
 
 
-#: The trainer's compute settings by name: ``benchmarks/model_speed.py --compute`` times them, the accuracy sweep's
-#: ``compute`` knob measures what they do to accuracy. A compile's default (``auto``) is bf16 channels-last where
-#: the hardware has bf16 instructions and fp32 elsewhere: three PETS09 seeds held real accuracy
-#: (benchmarks/results/compute_bf16_pets09.md).
+#: The trainer's compute settings by name: ``python -m benchmarks.model_speed --compute`` times them, the accuracy
+#: sweep's ``compute`` knob measures what they do to accuracy. A compile's default (``auto``) is bf16 channels-last
+#: where the hardware has bf16 instructions, fp32 elsewhere: faster training at the same real accuracy
+#: (docs/decisions/0006-training-compute.md).
 TRAINING_COMPUTE: dict[str, dict[str, bool]] = {
     "fp32": {"channels_last": False, "bf16_autocast": False},
     "fp32 channels-last": {"channels_last": True, "bf16_autocast": False},
@@ -158,19 +158,14 @@ TRAINING_COMPUTE: dict[str, dict[str, bool]] = {
 }
 
 PRESETS: dict[str, CompileConfig] = {
-    # about 10 minutes for the demo scene on 2 cores: a working bundle, not an accurate one. The "fast" network:
-    # in 200 steps "fast-sep" learns less (demo held-out AP50 0.81 / 0.82 against 0.89 / 0.91, self-test 0.65
-    # against 0.82; benchmarks/results/separable_pets09.md), though at the standard 1 800 it matches it
+    # about 10 minutes for the demo scene on 2 cores: a working bundle, not an accurate one. The "fast" network,
+    # because "fast-sep" learns less in 200 steps (docs/decisions/0004-network-architecture.md)
     "quick": CompileConfig(render=RenderSettings(samples=300), train=TrainSettings(arch="fast", steps=200),
                            export=ExportSettings(precision="auto", eval_samples=100),
                            self_test=SelfTestSettings(frames=8)),
-    # the default: PETS09 in about 30 minutes on 2 cores (7 minutes of training per region). With centre offsets:
-    # on PETS09, three pairs of the same renders and seed, AP50 tracked 0.922 -> 0.934 (each frame 0.918 -> 0.927),
-    # recall of people overlapping another 0.78 -> 0.83, MOTA and IDF1 up in all three, +0.3 ms a frame
-    # (benchmarks/results/centre_offsets_pets09.md). With the centre map also learned at twice the resolution, the
-    # same renders and seeds: tracked AP50 0.945 -> 0.958, overlapping recall 0.868 -> 0.930, MOTA 0.890 -> 0.903,
-    # pose agreement 0.763 -> 0.755; TUD-Stadtmitte, three seeds, 0.853 -> 0.858, pose agreement 0.640 -> 0.679
-    # (benchmarks/results/fine_centre_pets09.md). Neither measured at the quick budget's 200 steps
+    # the default: PETS09 in about 26 minutes on 2 cores. Centre offsets and the fine centre map keep people side by
+    # side apart (docs/decisions/0003-decoder-settings.md, docs/decisions/0010-fine-centre-map.md); neither is
+    # measured at the quick budget's 200 steps
     "standard": CompileConfig(render=RenderSettings(samples=2000),
                               train=TrainSettings(centre_offsets=True, fine_centre=True)),
     "full": CompileConfig(render=RenderSettings(samples=6000, spp=32),

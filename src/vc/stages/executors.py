@@ -14,7 +14,7 @@ Export and the self-test are seconds and stay with the caller.
 
 Worker processes of this machine (:class:`LocalProcesses`, the standard library's process pool) are for a host
 that one process cannot keep busy: a sample's renderer is first a Python trace and kernel launches (about 17 ms
-however few its rays, compile.md), so on a GPU, or on many cores, several renderers at once go faster than one.
+however few its rays, docs/compile.md), so on a GPU, or on many cores, several renderers at once go faster than one.
 They need nothing installed; a worker that dies fails the stage, and running the compile again resumes from the
 shards already written.
 
