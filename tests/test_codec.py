@@ -182,6 +182,21 @@ def test_the_settled_decoding_finds_the_people_it_always_found() -> None:
                                 [1903.819, 1716.266, 15.067], [680.131, 1549.583, 14.495]], atol=1e-3)
 
 
+def test_the_upright_prior_is_a_parameter_whose_default_is_the_measured_one() -> None:
+    """An experiment measures another prior by passing it, not by overwriting the module's constants."""
+    from vc.deploy.decode import UPRIGHT_PRIOR, UprightPrior
+
+    heatmaps, heights = _settled_case()
+    config = DecodeConfig(stride=STRIDE)
+    measured = decode(heatmaps, config, heights, prior=UprightPrior(UPRIGHT_OFFSETS.copy(), LOWER_ANKLE_OFFSET))
+    default = decode(heatmaps, config, heights)
+    np.testing.assert_array_equal([p.box for p in measured], [p.box for p in default])
+    taller = UprightPrior(UPRIGHT_OFFSETS * 1.05, LOWER_ANKLE_OFFSET * 1.05)
+    heights_under = [p.box[3] - p.box[1] for p in decode(heatmaps, config, heights, prior=taller)]
+    assert max(heights_under) < max(p.box[3] - p.box[1] for p in default)  # keypoints spread wider: a shorter body
+    assert UPRIGHT_PRIOR.offsets is UPRIGHT_OFFSETS  # one source for the measured prior
+
+
 def test_a_stored_decode_config_naming_a_settled_switch_reads_as_without_it() -> None:
     stored = {**DecodeConfig(stride=STRIDE).__dict__, **SETTLED_SWITCHES}
     assert DecodeConfig(**stored_decode_fields(stored)) == DecodeConfig(stride=STRIDE)

@@ -163,6 +163,10 @@ def test_a_region_keeps_people_just_across_a_seam_but_not_beyond_the_outer_edge(
     assert just_across_seam(feet, heights, own, (neighbour,)).tolist() == [False, True, False, False, False]
     # Without neighbours (a one-region bundle) there is no seam to keep anyone across.
     assert not just_across_seam(feet, heights, own, ()).any()
+    # The tolerance is a parameter (an experiment measures others): at 0 a region keeps only its own area.
+    assert not just_across_seam(feet, heights, own, (neighbour,), tolerance=0.0).any()
+    assert just_across_seam(feet, heights, own, (neighbour,), tolerance=2 * SEAM_FOOT_TOLERANCE).tolist() == \
+        [False, True, True, False, False]
 
 
 def test_at_a_seam_the_owning_regions_person_wins_over_one_kept_across_it() -> None:

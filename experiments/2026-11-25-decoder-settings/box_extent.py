@@ -17,16 +17,18 @@ from pathlib import Path
 
 import numpy as np
 
-import vc.deploy.decode
 from vc.deploy.boxes import box_iou
+from vc.deploy.decode import UPRIGHT_PRIOR, UprightPrior
 from vc.deploy.frames import FrameRange, FrameSource
-from vc.deploy.runtime import Person, Runtime
+from vc.deploy.runtime import Person, Runtime, without_seam_duplicates
 from vc.deploy.tracking import Tracker, tracking_rate
 from vc.evaluation.metrics import ImageResult, evaluate
 from vc.evaluation.mot import read_mot_boxes
 
-#: The upright prior of every bundle before 2026-11-26 (keypoints, then the lower ankle's offset).
-BEFORE = [-0.43, -0.45, -0.45, -0.44, -0.44, -0.32, -0.32, -0.15, -0.15, 0.0, 0.0, 0.02, 0.02, 0.25, 0.25, 0.46, 0.46]
+#: The upright prior of every bundle before 2026-11-26 (keypoints; the lower ankle's offset is the last one's).
+BEFORE_OFFSETS = [-0.43, -0.45, -0.45, -0.44, -0.44, -0.32, -0.32, -0.15, -0.15, 0.0, 0.0, 0.02, 0.02, 0.25, 0.25,
+                  0.46, 0.46]
+BEFORE = UprightPrior(np.array(BEFORE_OFFSETS), BEFORE_OFFSETS[-1])
 
 
 def _ap50(truth: dict, people: dict[int, list[Person]], frames: list[int]) -> float:
@@ -49,12 +51,19 @@ def _height_ratio(truth: dict, people: dict[int, list[Person]], frames: list[int
     return float(np.median(ratios))
 
 
-def measure(bundle: Path, video: Path, gt: Path, last: int, every: int, fps: float | None) -> dict:
+def _people(runtime: Runtime, frame: np.ndarray, prior: UprightPrior) -> list[Person]:
+    """A frame's people as the runtime reports them, decoded with ``prior``."""
+    people = [person for runner in runtime.runners for person in runner.people_in(runner.heatmaps(frame), prior=prior)]
+    return without_seam_duplicates(sorted(people, key=lambda person: -person.score))
+
+
+def measure(bundle: Path, video: Path, gt: Path, last: int, every: int, fps: float | None,
+            prior: UprightPrior = UPRIGHT_PRIOR) -> dict:
     truth = read_mot_boxes(gt)
     source = FrameSource(video, FrameRange(1, last, 1))
     rate = tracking_rate(source, fps)
     with Runtime(bundle, threads=2, weak_people_above=0.1) as runtime:
-        decoded = [(frame.number, runtime(frame.image)) for frame in source]
+        decoded = [(frame.number, _people(runtime, frame.image, prior)) for frame in source]
     scored = [n for n, _ in decoded if (n - 1) % every == 0 and n <= max(truth)]
     tracker = Tracker()
     tracked = {n: tracker.update(people, n / rate) for n, people in decoded}
@@ -74,10 +83,8 @@ def main() -> None:
     parser.add_argument("--fps", type=float, help="frame rate of a folder of frames")
     parser.add_argument("--before", action="store_true", help="the upright prior before it was measured")
     args = parser.parse_args()
-    if args.before:
-        vc.deploy.decode.UPRIGHT_OFFSETS[:] = BEFORE
-        vc.deploy.decode.LOWER_ANKLE_OFFSET = BEFORE[-1]
-    result = measure(args.bundle, args.video, args.gt, args.last, args.every, args.fps)
+    prior = BEFORE if args.before else UPRIGHT_PRIOR
+    result = measure(args.bundle, args.video, args.gt, args.last, args.every, args.fps, prior)
     print(json.dumps({"bundle": str(args.bundle), "prior": "before" if args.before else "measured", **result}))
 
 

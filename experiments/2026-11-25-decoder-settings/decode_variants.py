@@ -24,7 +24,7 @@ from tqdm import tqdm
 
 from vc.deploy.decode import DecodeConfig
 from vc.deploy.frames import FrameRange, FrameSource
-from vc.deploy.runtime import Runtime, without_seam_duplicates
+from vc.deploy.runtime import SEAM_FOOT_TOLERANCE, Runtime, without_seam_duplicates
 from vc.evaluation.agreement import pose_agreement
 from vc.evaluation.annotated_area import AnnotatedArea
 from vc.evaluation.baselines import YoloPoseOnnx
@@ -97,15 +97,17 @@ def reference_poses(model_path: Path, source: FrameSource, truth: dict[int, np.n
 
 
 def measure(runtime: Runtime, numbers: list[int], maps: list[list[np.ndarray]], truth: dict[int, np.ndarray],
-            changes: dict, reference: list[ImageResult] | None = None) -> dict:
-    """AP50 and the miss analysis's headline numbers with ``changes`` applied to every region's DecodeConfig, and
-    the keypoints' agreement with ``reference`` when given."""
+            changes: dict, reference: list[ImageResult] | None = None,
+            seam_tolerance: float = SEAM_FOOT_TOLERANCE) -> dict:
+    """AP50 and the miss analysis's headline numbers with ``changes`` applied to every region's DecodeConfig (and
+    people kept across a seam within ``seam_tolerance``), and the keypoints' agreement with ``reference`` when
+    given."""
     images = []
     for number, per_region in zip(numbers, maps, strict=True):
         # as the runtime reports a frame: every region's people, strongest first, one of each seam duplicate
         people = without_seam_duplicates(sorted(
             (person for runner, heatmaps in zip(runtime.runners, per_region, strict=True)
-             for person in runner.people_in(heatmaps, replace(runner.entry.decode, **changes))),
+             for person in runner.people_in(heatmaps, replace(runner.entry.decode, **changes), seam_tolerance)),
             key=lambda person: -person.score))
         images.append(ImageResult(truth.get(number, np.zeros((0, 4))), np.array([p.box for p in people]).reshape(-1, 4),
                                   np.array([p.score for p in people]),

@@ -16,13 +16,11 @@ from __future__ import annotations
 import argparse
 import json
 from pathlib import Path
-from unittest import mock
 
 from decode_variants import heatmaps_of, measure
 
-import vc.deploy.runtime as runtime_module
 from vc.deploy.frames import FrameRange, FrameSource
-from vc.deploy.runtime import Runtime
+from vc.deploy.runtime import SEAM_FOOT_TOLERANCE, Runtime
 from vc.evaluation.mot import read_mot_boxes
 from vc.io import write_json
 
@@ -45,15 +43,14 @@ def main(argv: list[str] | None = None) -> int:
     numbers, maps = heatmaps_of(runtime, source)
     results = {}
     for tolerance in args.tolerance:
-        with mock.patch.object(runtime_module, "SEAM_FOOT_TOLERANCE", tolerance):
-            results[str(tolerance)] = measure(runtime, numbers, maps, truth, {})
+        results[str(tolerance)] = measure(runtime, numbers, maps, truth, {}, seam_tolerance=tolerance)
         overlap = results[str(tolerance)].get("recall_by_overlap", {}).get("overlapping another", {})
         print(f"tolerance {tolerance:<5} AP50 {results[str(tolerance)]['ap50']:.4f}  "
               f"recall overlapping {overlap.get('recall', float('nan')):.3f}")
     args.out.mkdir(parents=True, exist_ok=True)
     write_json(args.out / "seam_tolerance.json", {"bundle": str(args.bundle), "video": str(args.video),
                                                   "frames": "all" if args.all_frames else str(args.frames),
-                                                  "shipped": runtime_module.SEAM_FOOT_TOLERANCE,
+                                                  "shipped": SEAM_FOOT_TOLERANCE,
                                                   "tolerances": results})
     print(json.dumps({"written": str(args.out)}))
     return 0

@@ -13,7 +13,7 @@
    a person the centre map merged into a neighbour's peak, or blurred between people: a peak few pixels vote for
    moves there, else they are added at their votes' mean, scored by the centre map there.
 2. Each keypoint is a peak of its map weighted by a Gaussian prior around where that keypoint sits on an
-   upright person (:data:`UPRIGHT_OFFSETS`, scaled by the person's expected height): a neighbour's ankle, even
+   upright person (:data:`UPRIGHT_PRIOR`, scaled by the person's expected height): a neighbour's ankle, even
    if nearer to this centre, loses to this person's own. The candidates are the local maxima of each keypoint
    map, shared out greedily, best prior-weighted value first: a peak goes to one person only, so two people side
    by side never both take the stronger one's wrist. A weak person takes the maximum of each map weighted by
@@ -68,6 +68,19 @@ MERGED_PEAK_REACH = 0.5
 #: The lower of a person's two ankles, measured likewise (0.439 bare): the planted foot's, which the box's bottom
 #: follows (the other foot swings up to 0.1 heights higher).
 LOWER_ANKLE_OFFSET = 0.427
+
+
+@dataclass(frozen=True)
+class UprightPrior:
+    """Where an upright person's keypoints lie: :data:`UPRIGHT_OFFSETS` and :data:`LOWER_ANKLE_OFFSET` together, a
+    parameter of :func:`decode` so that another body model's prior can be measured without touching these."""
+
+    offsets: np.ndarray  # (17,) person heights from the middle of the body's vertical extent, down positive
+    lower_ankle: float
+
+
+#: The prior every bundle decodes with.
+UPRIGHT_PRIOR = UprightPrior(UPRIGHT_OFFSETS, LOWER_ANKLE_OFFSET)
 
 
 @dataclass(frozen=True)
@@ -243,7 +256,8 @@ def _maxima_in(maps: np.ndarray, threshold: float,
 
 
 def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
-           expected_height_px: np.ndarray | None = None, weak_above: float | None = None) -> list[DecodedPerson]:
+           expected_height_px: np.ndarray | None = None, weak_above: float | None = None,
+           prior: UprightPrior = UPRIGHT_PRIOR) -> list[DecodedPerson]:
     """People in one sample's heat maps (C, h, w), C one of the :data:`~vc.deploy.heatmaps.LAYOUTS`: with or
     without centre offsets, with or without the fine centre map (which it does not read).
     ``expected_height_px`` (h, w): the pixel height of a person whose centre is at each cell, from the region's
@@ -314,10 +328,10 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     keypoint_maps = heatmaps[KEYPOINT_CHANNELS]
     # Strong people share out the keypoint peaks (step 2); weak ones search their own, taking nothing from them.
     shared_out = dict(zip(strong_indices, _exclusive_keypoints(keypoint_maps, centres_cells[strong],
-                                                               heights_cells[strong], config), strict=True))
+                                                               heights_cells[strong], config, prior), strict=True))
     searched = [index for index in range(len(peaks)) if index not in shared_out]
     own_keypoints = dict(zip(searched, _keypoints(keypoint_maps, centres_cells[searched], heights_cells[searched],
-                                                  config), strict=True))
+                                                  config, prior), strict=True))
     keypoints = np.stack([shared_out[index] if index in shared_out else own_keypoints[index]
                           for index in range(len(peaks))])  # (N, 17, 3)
     centre_rows, centre_columns = (np.round(centres_cells[:, ::-1]).astype(int)).T
@@ -331,7 +345,7 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     owned = (np.where(strong[:, None], owner_among_strong[None], owner[None])
              == np.arange(len(peaks))[:, None]) & within_reach
     centres = cells_to_input(centres_cells, stride)
-    boxes = _boxes(centres, heights_px, keypoints, owned, mask_columns, config)
+    boxes = _boxes(centres, heights_px, keypoints, owned, mask_columns, config, prior)
     people = []
     for index, (score, _) in enumerate(peaks):
         mask_cells = np.zeros((height, width), bool)
@@ -343,7 +357,7 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
 
 
 def _keypoints(keypoint_maps: np.ndarray, centres_cells: np.ndarray, heights_cells: np.ndarray,
-               config: DecodeConfig) -> np.ndarray:
+               config: DecodeConfig, prior: UprightPrior = UPRIGHT_PRIOR) -> np.ndarray:
     """(N, 17, 3) keypoints of the N people at ``centres_cells``: each the maximum of its map times the person's
     upright prior (weak people's, step 2).
 
@@ -363,7 +377,7 @@ def _keypoints(keypoint_maps: np.ndarray, centres_cells: np.ndarray, heights_cel
     centre_columns = np.round(centres_cells[:, 0]).astype(int)
     x0 = np.maximum(centre_columns - reaches, 0)
     x1 = np.minimum(centre_columns + reaches + 1, width)
-    expected_rows = centres_cells[:, 1, None] + UPRIGHT_OFFSETS[None, :channels] * heights_cells[:, None]  # (N, 17)
+    expected_rows = centres_cells[:, 1, None] + prior.offsets[None, :channels] * heights_cells[:, None]  # (N, 17)
     starts = np.maximum(np.round(expected_rows).astype(int) - reaches[:, None], 0)
     stops = np.minimum(np.round(expected_rows).astype(int) + reaches[:, None] + 1, height)
     # A keypoint whose expected position is far off the map is not looked for.
@@ -399,7 +413,7 @@ def _keypoints(keypoint_maps: np.ndarray, centres_cells: np.ndarray, heights_cel
 
 
 def _exclusive_keypoints(keypoint_maps: np.ndarray, centres_cells: np.ndarray, heights_cells: np.ndarray,
-                         config: DecodeConfig) -> np.ndarray:
+                         config: DecodeConfig, prior: UprightPrior = UPRIGHT_PRIOR) -> np.ndarray:
     """(N, 17, 3) keypoints of the N people at ``centres_cells`` with each keypoint peak given to one person at
     most (step 2): per keypoint map, every (person, peak) pair is scored by the peak's value times the person's
     upright prior (as in :func:`_keypoints`, cut at 3 prior widths), and pairs are taken best first while both
@@ -409,7 +423,7 @@ def _exclusive_keypoints(keypoint_maps: np.ndarray, centres_cells: np.ndarray, h
     sigmas = config.search_sigma * heights_cells  # (N,)
     expected = np.empty((count, channels, 2))  # (N, 17, 2) cells
     expected[..., 0] = centres_cells[:, 0, None]
-    expected[..., 1] = centres_cells[:, 1, None] + UPRIGHT_OFFSETS[None, :channels] * heights_cells[:, None]
+    expected[..., 1] = centres_cells[:, 1, None] + prior.offsets[None, :channels] * heights_cells[:, None]
     on_map = (expected[..., 1] > -0.5) & (expected[..., 1] < height - 0.5)  # (N, 17)
     # Every map's peaks at once (K in all), scored against every person: the maps do not compete, so taking the
     # pairs best first over all of them takes each map's best first (equal scores in (person, peak) order).
@@ -584,7 +598,7 @@ ANKLE_KEYPOINTS = np.array([COCO_KEYPOINTS.index(name) for name in ("left_ankle"
 
 
 def _boxes(centres: np.ndarray, heights_px: np.ndarray, keypoints: np.ndarray, owned: np.ndarray,
-           mask_columns: np.ndarray, config: DecodeConfig) -> np.ndarray:
+           mask_columns: np.ndarray, config: DecodeConfig, prior: UprightPrior = UPRIGHT_PRIOR) -> np.ndarray:
     """(N, 4) boxes of the N people at ``centres`` (input px) with expected ``heights_px``, ``keypoints`` (N, 17, 3)
     and ``owned`` (N, M) of the M foreground cells in ``mask_columns`` (see module docstring, step 4; all people at
     once). Top and bottom from the highest confident head keypoint and the lowest confident ankle: on the upright
@@ -619,10 +633,10 @@ def _boxes(centres: np.ndarray, heights_px: np.ndarray, keypoints: np.ndarray, o
     ankle = ANKLE_KEYPOINTS[np.argmax(np.where(ankles, y[:, ANKLE_KEYPOINTS], -np.inf), axis=1)]
     people = np.arange(count)
     head_y, ankle_y = y[people, head], y[people, ankle]
-    height = (ankle_y - head_y) / (LOWER_ANKLE_OFFSET - UPRIGHT_OFFSETS[head])
+    height = (ankle_y - head_y) / (prior.lower_ankle - prior.offsets[head])
     ratio = height / heights_px
     from_keypoints = both & (1.0 / config.keypoint_height_range <= ratio) & (ratio <= config.keypoint_height_range)
-    keypoint_top = head_y - (0.5 + UPRIGHT_OFFSETS[head]) * height
+    keypoint_top = head_y - (0.5 + prior.offsets[head]) * height
     top = np.where(from_keypoints, keypoint_top, top)
     bottom = np.where(from_keypoints, keypoint_top + height, bottom)
     return np.stack([centres[:, 0] - left, top, centres[:, 0] + right, bottom], axis=1)

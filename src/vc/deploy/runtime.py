@@ -24,7 +24,7 @@ from vc.cores import usable_cores
 from vc.deploy.areas import ImageArea
 from vc.deploy.boxes import box_iou, foot_points
 from vc.deploy.bundle import Bundle, RegionEntry, load_bundle
-from vc.deploy.decode import DecodeConfig, DecodedPerson, decode
+from vc.deploy.decode import UPRIGHT_PRIOR, DecodeConfig, DecodedPerson, UprightPrior, decode
 from vc.errors import InputError
 
 #: Two people of different regions overlapping more than this are one person seen by both (module docstring); lower,
@@ -91,18 +91,18 @@ class Person:
 
 
 def just_across_seam(feet: np.ndarray, heights: np.ndarray, area: ImageArea,
-                     neighbour_areas: tuple[ImageArea, ...]) -> np.ndarray:
+                     neighbour_areas: tuple[ImageArea, ...], tolerance: float = SEAM_FOOT_TOLERANCE) -> np.ndarray:
     """Which of the people with these foot points (N, 2) and box heights (N,), frame pixels, a region with owned
-    ``area`` keeps across a seam: their feet lie in one of ``neighbour_areas``, within :data:`SEAM_FOOT_TOLERANCE`
-    heights of ``area`` straight up or down the image (the foot point's error is the box bottom's; tested at
-    quarter steps). Feet beyond every region's area are no region's."""
+    ``area`` keeps across a seam: their feet lie in one of ``neighbour_areas``, within ``tolerance`` (default
+    :data:`SEAM_FOOT_TOLERANCE`) heights of ``area`` straight up or down the image (the foot point's error is the
+    box bottom's; tested at quarter steps). Feet beyond every region's area are no region's."""
     in_neighbour = np.any([neighbour.contains(feet) for neighbour in neighbour_areas], axis=0)
     candidates = np.flatnonzero(in_neighbour & ~area.contains(feet))
     across = np.zeros(len(feet), bool)
     if len(candidates):
         steps = np.repeat([0.25, -0.25, 0.5, -0.5, 0.75, -0.75, 1.0, -1.0], len(candidates))  # every shift at once
         moved = np.tile(feet[candidates], (8, 1))
-        moved[:, 1] += steps * SEAM_FOOT_TOLERANCE * np.tile(heights[candidates], 8)
+        moved[:, 1] += steps * tolerance * np.tile(heights[candidates], 8)
         across[candidates] = area.contains(moved).reshape(8, len(candidates)).any(axis=0)
     return across
 
@@ -143,10 +143,13 @@ class RegionRunner:
     def people(self, frame: np.ndarray) -> list[Person]:
         return self.people_in(self.heatmaps(frame))
 
-    def people_in(self, heatmaps: np.ndarray, config: DecodeConfig | None = None) -> list[Person]:
-        """The people this region owns in its heat maps, decoded with the bundle's settings or ``config``; with
+    def people_in(self, heatmaps: np.ndarray, config: DecodeConfig | None = None,
+                  seam_tolerance: float = SEAM_FOOT_TOLERANCE, prior: UprightPrior = UPRIGHT_PRIOR) -> list[Person]:
+        """The people this region owns in its heat maps, decoded with the bundle's settings or ``config`` (and
+        ``prior``), kept across a seam within ``seam_tolerance`` (:func:`just_across_seam`); with
         ``weak_people_above``, also the weaker centre peaks down to it, flagged ``weak``."""
-        decoded = decode(heatmaps, config or self.entry.decode, self.entry.expected_height_px, self.weak_people_above)
+        decoded = decode(heatmaps, config or self.entry.decode, self.entry.expected_height_px, self.weak_people_above,
+                         prior)
         if not decoded:
             return []
         boxes = self.to_frame(np.array([person.box for person in decoded]).reshape(-1, 2)).reshape(-1, 4)
@@ -156,7 +159,7 @@ class RegionRunner:
         across, outside = np.zeros(len(feet), bool), np.flatnonzero(~inside)
         if len(outside):
             across[outside] = just_across_seam(feet[outside], boxes[outside, 3] - boxes[outside, 1],
-                                               self.owned_area, self.neighbour_areas)
+                                               self.owned_area, self.neighbour_areas, seam_tolerance)
         return [self._person(person, box, bool(is_across)) for person, box, is_inside, is_across
                 in zip(decoded, boxes, inside, across, strict=True) if is_inside or is_across]
 
