@@ -3,9 +3,10 @@
 
 1. Hypotheses are the tracked people kept at the bundle's operating point (the best-F1 score threshold, as in the
    miss analysis), each with its track number; carried people count like seen ones.
-2. Per frame, a ground-truth person matched in the previous scored frame to a track keeps that match while the
-   track's box still overlaps theirs at IoU >= 0.5; the others are matched by the largest total IoU (Hungarian,
-   scipy), pairs under 0.5 excluded.
+2. Per frame, a ground-truth person keeps the track they were last matched to while its box still overlaps theirs
+   at IoU >= 0.5 and no one before them in the frame kept it; the other people and boxes are paired one to one
+   (Hungarian, scipy), pairs under 0.5 excluded: as many pairs as possible and, among those, the least total
+   distance 1 - IoU.
 3. A ground-truth person matched to another track than the one they were last matched to is an identity switch.
 4. MOTA = 1 - (misses + false positives + switches) / ground-truth people; MOTP is the mean IoU of the matches.
 5. IDF1: each ground-truth track is paired with at most one hypothesis track (and each hypothesis track with at
@@ -13,6 +14,10 @@
    frames are the identity true positives, and IDF1 = 2 IDTP / (ground-truth people + hypotheses).
 
 Frames are those scored: with every 5th frame scored, a switch is counted between scored frames.
+
+These are py-motmetrics' definitions (``MOTAccumulator`` with the IoU distance at ``max_iou=0.5``), exact ties in the
+assignment resolved as there: tests/test_mot_reference.py checks that both give the same counts and ratios, and
+docs/decisions/0012-mot-metrics.md says why motmetrics is a test dependency only.
 """
 
 from __future__ import annotations
@@ -78,17 +83,24 @@ def _frame_matches(iou: np.ndarray, truth_ids: np.ndarray, tracks: np.ndarray,
     """Step 2 for one frame: truth index -> hypothesis index."""
     matches: dict[int, int] = {}
     for truth, person in enumerate(truth_ids):
-        kept = np.nonzero(tracks == previous.get(int(person), -1))[0]
-        if len(kept) and iou[truth, kept[0]] >= IOU_THRESHOLD:
+        if int(person) not in previous:
+            continue
+        kept = [h for h in np.nonzero(tracks == previous[int(person)])[0] if h not in matches.values()]
+        if kept and iou[truth, kept[0]] >= IOU_THRESHOLD:
             matches[truth] = int(kept[0])
-    free_truth = [t for t in range(iou.shape[0]) if t not in matches]
-    free_hypotheses = [h for h in range(iou.shape[1]) if h not in matches.values()]
-    if free_truth and free_hypotheses:
-        sub = iou[np.ix_(free_truth, free_hypotheses)]
-        rows, columns = linear_sum_assignment(-np.where(sub >= IOU_THRESHOLD, sub, 0.0))
+    allowed = iou >= IOU_THRESHOLD
+    allowed[list(matches), :] = False
+    allowed[:, list(matches.values())] = False
+    if allowed.any():
+        distance = 1.0 - iou
+        # A pair that is not allowed costs more than a whole assignment of allowed pairs, so the assignment has the
+        # most pairs possible and, among those, the least total distance 1 - IoU. The constant is motmetrics' (the
+        # reference, tests/test_mot_reference.py): exact ties then resolve as they do there.
+        costly = 2.0 * min(iou.shape) * (distance[allowed].max() + 1.0) + 1.0
+        rows, columns = linear_sum_assignment(np.where(allowed, distance, costly))
         for row, column in zip(rows, columns, strict=True):
-            if sub[row, column] >= IOU_THRESHOLD:
-                matches[free_truth[row]] = free_hypotheses[column]
+            if allowed[row, column]:
+                matches[int(row)] = int(column)
     return matches
 
 
