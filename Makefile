@@ -26,6 +26,8 @@ $(STAMP): pyproject.toml packaging/runtime/pyproject.toml $(LLVM_LIB)
 	# torch first: the pinned CPU wheel; any looser spec pulls GBs of CUDA packages.
 	$(PIP) install -q torch==2.13.0
 	$(PIP) install -q -e '.[dev]'
+	# COCO-C's corruptions, without the GUI OpenCV they ask for (pyproject.toml, the robustness extra)
+	$(PIP) install -q --no-deps imagecorruptions-imaug==1.1.5
 	touch $(STAMP)
 
 test: install

@@ -7,6 +7,7 @@
 - ``runtime_latency``: a bundle's ms per frame and memory per precision, as an appliance runs it.
 - ``runtime_interleaved``: ms per real frame of several bundles timed frame by frame in one process.
 - ``lighting_recovery``: how well the light is recovered from one background rendered under known light.
+- ``robustness``: AP50 and false people under COCO-C's corruptions and a camera's everyday changes, beside YOLO-pose.
 
 Each runs from the repository root as ``python -m benchmarks.<name> ...`` (``--help`` lists its arguments) and
 writes its numbers and plots to ``benchmarks/results/<name>/`` unless ``--out`` says otherwise

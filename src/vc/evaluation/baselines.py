@@ -116,6 +116,7 @@ class YoloPoseOnnx:
         centre, size = rows[:, :2], rows[:, 2:4]
         boxes = (np.concatenate([centre - size / 2, centre + size / 2], axis=1) - np.tile(pad, 2)) / scale
         keep = non_max_suppression(boxes, rows[:, 4], self.iou_threshold)[:self.max_detections]
-        keypoints = rows[keep, 5:].reshape(len(keep), -1, 3).astype(np.float64)
+        # K from the row length, not -1: a frame without one row above min_score has no length to infer it from
+        keypoints = rows[keep, 5:].reshape(len(keep), (rows.shape[1] - 5) // 3, 3).astype(np.float64)
         keypoints[:, :, :2] = (keypoints[:, :, :2] - pad) / scale
         return Detections(boxes[keep], rows[keep, 4].astype(np.float64), keypoints)
