@@ -61,7 +61,7 @@ from vc.calibration.materials import luminance  # noqa: E402
 from vc.calibration.response import Response  # noqa: E402
 from vc.cores import cpu_facts, usable_cores  # noqa: E402
 from vc.deploy.frames import Frame, FrameRange, FrameSource, read_frame_image  # noqa: E402
-from vc.deploy.runtime import Runtime  # noqa: E402
+from vc.deploy.runtime import UNFIT_SETTINGS, Runtime  # noqa: E402
 from vc.errors import InputError  # noqa: E402
 from vc.evaluation.baselines import Detections, YoloPoseOnnx  # noqa: E402
 from vc.evaluation.metrics import ImageResult, evaluate  # noqa: E402
@@ -481,7 +481,28 @@ def plot(report: dict, path: Path) -> None:
 
 # ---------------------------------------------------------------------------------------------------- the command
 
-def _command(args: argparse.Namespace, frames: FrameRange) -> str:
+@dataclass(frozen=True)
+class RobustnessRequest:
+    """One run's settings, as ``python -m benchmarks.robustness`` parses them (see its ``--help``)."""
+
+    bundle: Path
+    video: Path
+    gt: Path
+    frames: FrameRange | None = None
+    background: Path | None = None
+    external: Path | None = None
+    external_size: int | None = None
+    corruptions: list[str] | None = None  # None: the 15 common ones; empty: no COCO-C
+    severities: list[int] = field(default_factory=lambda: list(SEVERITIES))
+    conditions: list[str] | None = None  # None: every camera-life condition; empty: none
+    nudge: int = NUDGE_PX
+    threads: int | None = None
+    unfit: str = "suppress"  # the runtime's setting for the people of an unfit frame (vc.deploy.runtime)
+    out: Path = field(default_factory=lambda: results_folder("robustness"))
+    quiet: bool = False
+
+
+def _command(args: RobustnessRequest, frames: FrameRange) -> str:
     """The command that measures the same again, every setting spelled out (``frames``: those selected), paths as
     reports name them (:func:`benchmarks.display_path`)."""
     words = [display_path(args.bundle), "--video", display_path(args.video), "--gt", display_path(args.gt),
@@ -497,6 +518,7 @@ def _command(args: argparse.Namespace, frames: FrameRange) -> str:
     if args.conditions is not None:
         words += ["--conditions", *args.conditions]
     words += ["--nudge", str(args.nudge)] + (["--threads", str(args.threads)] if args.threads else [])
+    words += ["--unfit", args.unfit]
     return "python -m benchmarks.robustness " + shlex.join(words + ["--out", display_path(args.out)])
 
 
@@ -521,12 +543,15 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--nudge", type=int, default=NUDGE_PX, help=f"pixels the camera is nudged (default "
                                                                     f"{NUDGE_PX})")
     parser.add_argument("--threads", type=int, default=None, help="threads per detector (default: all usable)")
+    parser.add_argument("--unfit", choices=UNFIT_SETTINGS, default="suppress",
+                        help="the bundle's people on frames its scene fitness finds unfit: withheld, as shipped "
+                             "(default), or kept, to measure the networks alone")
     parser.add_argument("--out", type=Path, default=results_folder("robustness"))
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     return parser
 
 
-def _conditions(args: argparse.Namespace) -> list[Condition]:
+def _conditions(args: RobustnessRequest) -> list[Condition]:
     camera_life = camera_life_conditions(args.nudge)
     keys = list(camera_life) if args.conditions is None else args.conditions
     unknown = [key for key in keys if key not in camera_life]
@@ -543,7 +568,7 @@ def _conditions(args: argparse.Namespace) -> list[Condition]:
             + coco_c_conditions(corruptions, sorted(set(args.severities))))
 
 
-def _frames(args: argparse.Namespace, truth: dict[int, np.ndarray], frame_size: tuple[int, int]) -> tuple[
+def _frames(args: RobustnessRequest, truth: dict[int, np.ndarray], frame_size: tuple[int, int]) -> tuple[
         FrameRange, list[Frame]]:
     frames = args.frames or FrameRange(1, max(truth))
     source = FrameSource(args.video, frames)
@@ -559,12 +584,12 @@ def _frames(args: argparse.Namespace, truth: dict[int, np.ndarray], frame_size: 
     return frames, selected
 
 
-def run(args: argparse.Namespace) -> dict:
+def run(args: RobustnessRequest) -> dict:
     """Measure every condition and return the report (see the module's docstring)."""
     started = time.perf_counter()
     conditions = _conditions(args)
     truth = read_mot_boxes(args.gt)
-    with Runtime(args.bundle, threads=args.threads) as runtime:
+    with Runtime(args.bundle, threads=args.threads, unfit=args.unfit) as runtime:
         bundle = runtime.bundle
         frames, selected = _frames(args, truth, bundle.frame_size)
         background = None
@@ -601,7 +626,7 @@ def run(args: argparse.Namespace) -> dict:
             "people": int(sum(len(truth.get(frame.number, ())) for frame in selected)),
             "background": None if args.background is None else display_path(args.background),
             "external": external, "detectors": list(detectors), "imagecorruptions": imagecorruptions_version(),
-            "severities": severities, "tracking": "none: each frame on its own",
+            "severities": severities, "tracking": "none: each frame on its own", "unfit": args.unfit,
             "seconds": round(time.perf_counter() - started, 1), **summary}
 
 
@@ -635,7 +660,7 @@ def report_lines(report: dict) -> list[str]:
 
 def main(argv: list[str] | None = None) -> int:
     parser = _parser()
-    args = parser.parse_args(argv)
+    args = RobustnessRequest(**vars(parser.parse_args(argv)))
     try:
         report = run(args)
     except InputError as error:

@@ -68,3 +68,17 @@ def positive_float(text: str) -> float:
     if not (0.0 < value < float("inf")):
         raise argparse.ArgumentTypeError(f"must be a finite number above 0, got {text!r}")
     return value
+
+
+def fitness_line(fitness: dict) -> str:
+    """One printed line of a summary's scene fitness (:meth:`vc.deploy.runtime.Runtime.fitness_summary`): frames per
+    state, and what happened to the people of the unfit ones."""
+    if "unknown_because" in fitness:
+        return f"  scene fitness unknown: {fitness['unknown_because']}"
+    states = fitness["states"]
+    counts = ", ".join(f"{count} {state}" for state, count in states.items()) or "no frames"
+    if not fitness["unfit_frames"]:
+        return f"  scene fitness: {counts}"
+    kept = "withheld" if fitness["unfit"] == "suppress" else "kept, flagged (a covered frame's withheld)"
+    return f"  scene fitness: {counts}; the people of the {fitness['unfit_frames']} unfit frame(s) {kept}"
+

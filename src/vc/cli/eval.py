@@ -2,19 +2,21 @@
 
     vc-eval BUNDLE --video V --gt GT.txt -o OUT [--frames first:last:step] [--no-hog] [--hog-upscale F]
             [--external MODEL.onnx [--external-name NAME]]... [--external-size S] [--threads N]
-            [--fps F] [--no-tracking] [--quiet]
+            [--fps F] [--no-tracking] [--unfit suppress|flag] [--quiet]
 
 For every selected frame each detector runs and is timed: the bundle (through :mod:`vc.deploy.runtime`, as the
 appliance runs it), OpenCV's HOG people detector, and optionally any YOLO-pose style ONNX model
 (:mod:`vc.evaluation.real_video`). The bundle's people are tracked over every frame of the selected span (a
 video's frame rate is read from it; give ``--fps`` for a folder of frames), and their walking direction decides
 which way they face where the network cannot tell (:mod:`vc.deploy.tracking`). Writes
-``OUT/metrics.json`` (AP50, milliseconds per frame, and for the bundle its operating point and recall by person
-height, group and region), ``OUT/precision_recall.png``, ``OUT/contact_sheet.png`` (frames with the bundle's people
-in colour and the ground truth in white), ``OUT/detections.jsonl``, and the bundle's miss analysis
-(:mod:`vc.evaluation.misses`): ``OUT/misses.json`` (near misses and misses, the near misses' box errors, false
-positives by kind, every error listed), ``OUT/misses.png`` and ``OUT/worst_frames.png`` (the frames of most
-errors: truth white when found, orange near missed, red missed; false positives magenta).
+``OUT/metrics.json`` (AP50, milliseconds per frame, for the bundle its operating point and recall by person
+height, group and region, and the scored frames per scene fitness state: :mod:`vc.deploy.fitness`; an unfit
+frame's people are withheld, or with ``--unfit flag`` kept), ``OUT/precision_recall.png``,
+``OUT/contact_sheet.png`` (frames with the bundle's people in colour and the ground truth in white),
+``OUT/detections.jsonl``, and the bundle's miss analysis (:mod:`vc.evaluation.misses`): ``OUT/misses.json`` (near
+misses and misses, the near misses' box errors, false positives by kind, every error listed), ``OUT/misses.png``
+and ``OUT/worst_frames.png`` (the frames of most errors: truth white when found, orange near missed, red missed;
+false positives magenta).
 
 GT is in the MOT text format; only frames inside its annotated range can be selected (a frame without a line
 there has nobody in it). Bad input exits with status 2.
@@ -26,8 +28,9 @@ import argparse
 from pathlib import Path
 
 from vc import __version__
-from vc.cli.common import handles_input_errors, positive_float, positive_int
+from vc.cli.common import fitness_line, handles_input_errors, positive_float, positive_int
 from vc.deploy.frames import FrameRange
+from vc.deploy.runtime import UNFIT_SETTINGS
 from vc.deploy.tracking import TrackingConfig
 from vc.errors import InputError
 from vc.evaluation.misses import MissAnalysis
@@ -65,6 +68,9 @@ def _parser() -> argparse.ArgumentParser:
                              "frames is tracked only when given)")
     parser.add_argument("--no-tracking", action="store_true",
                         help="each frame on its own: no tracks, facing from appearance only")
+    parser.add_argument("--unfit", choices=UNFIT_SETTINGS, default="suppress",
+                        help="the bundle's people on a frame the scene fitness finds unfit: withheld (suppress, the "
+                             "default, as vc-run) or kept (flag); a covered frame never yields people")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     return parser
 
@@ -78,7 +84,8 @@ def _request(args: argparse.Namespace) -> EvaluationRequest:
                              externals=tuple(ExternalModel(path, name) for path, name in zip(args.external, names,
                                                                                            strict=True)),
                              external_size=args.external_size, threads=args.threads,
-                             tracking=None if args.no_tracking else TrackingConfig(), fps=args.fps)
+                             tracking=None if args.no_tracking else TrackingConfig(), fps=args.fps,
+                             unfit=args.unfit)
 
 
 def _rates(rates: dict) -> str:
@@ -116,6 +123,7 @@ def report(result: EvaluationReport, output: Path) -> None:
         print(f"  tracked at {tracking['fps']:g} frames/s" + ("" if accuracy is None or accuracy["mota"] is None else
               f": MOTA {accuracy['mota']:.3f}, IDF1 {accuracy['idf1']:.3f}, {accuracy['id_switches']} identity "
               f"switches over the scored frames"))
+    print(fitness_line(result.metrics["fitness"]))
     for reference, by_name in result.agreements.items():
         for name, agreement in by_name.items():
             overall = "n/a" if agreement.overall is None else f"{agreement.overall:.3f}"

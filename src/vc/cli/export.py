@@ -1,6 +1,7 @@
 """``vc-export``: a finished ``vc-train`` run as a bundle an appliance embeds.
 
-    vc-export RUN -o BUNDLE [--precision fp32|fp16|int8|auto] [--eval-samples N] [--zip] [--sign KEY.pem]
+    vc-export RUN -o BUNDLE [--scene SCENE.yaml] [--precision fp32|fp16|int8|auto] [--eval-samples N] [--zip]
+              [--sign KEY.pem]
 
 Writes ``BUNDLE/manifest.json`` (format version, scene and its hash, the frame camera, keypoint names and skeleton,
 package versions, and per region: crop window, input size, ground polygon, owned image area, decode parameters,
@@ -10,8 +11,10 @@ Each region is measured at fp32, fp16 and int8 (static quantization calibrated o
 held-out renders; ``auto`` keeps int8 where it holds and fp32 elsewhere. The bundle appears complete or not at
 all, and is loaded back through the runtime's own validation. With ``--sign`` (an Ed25519 private key, PEM) the
 manifest is signed (``manifest.sig``): ``vc-run --public-key`` and ``Runtime(..., public_key=...)`` then refuse
-any bundle whose manifest was rewritten. Bad input prints one ``error:`` line and exits
-with status 2.
+any bundle whose manifest was rewritten. With ``--scene`` (the scene the run was trained for; another is refused)
+the bundle also carries the scene's background, reduced, as ``reference/background.npz``: the runtime measures each
+frame's scene fitness against it (``vc-compile`` always gives its scene). Without it the bundle's frames' fitness is
+``unknown``. Bad input prints one ``error:`` line and exits with status 2.
 """
 
 from __future__ import annotations
@@ -22,6 +25,7 @@ from pathlib import Path
 from vc import __version__
 from vc.cli.common import handles_input_errors, non_negative_int, positive_int
 from vc.model.precision import PRECISIONS
+from vc.scenes.loader import load_scene
 from vc.stages.config import ExportSettings
 from vc.stages.export import ExportResult, export
 
@@ -31,6 +35,9 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     parser.add_argument("run", type=Path, help="a vc-train run folder")
     parser.add_argument("-o", "--output", type=Path, required=True, help="bundle folder (or .zip with --zip)")
+    parser.add_argument("--scene", type=Path, metavar="SCENE.yaml",
+                        help="the scene the run was trained for: the bundle then carries its background, against "
+                             "which the runtime measures each frame's scene fitness (without it: unknown)")
     defaults = ExportSettings()
     parser.add_argument("--precision", choices=[*PRECISIONS, "auto"], default=defaults.precision,
                         help=f"model precision (default {defaults.precision}; auto: int8 where held-out accuracy "
@@ -75,6 +82,14 @@ def report_result(result: ExportResult, output: Path) -> None:
               f"{region['precision']}")
     for line in _accuracy_table(manifest):
         print(line)
+    reference = manifest.get("reference")
+    if reference:
+        width, height = reference["cells"]
+        print(f"  scene fitness reference: {reference['made_from']}, {width}x{height} cells of "
+              f"{reference['cell_px']} px")
+    else:
+        print("  no scene fitness reference (give the run's scene with --scene): vc-run reports every frame's "
+              "fitness as unknown")
 
 
 @handles_input_errors
@@ -82,6 +97,7 @@ def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     settings = ExportSettings(precision=args.precision, eval_samples=args.eval_samples,
                               calibration_samples=args.calibration_samples)
-    report_result(export(args.run, args.output, settings, args.zip, args.sign, show_progress=not args.quiet),
-                  args.output)
+    scene = load_scene(args.scene) if args.scene is not None else None
+    report_result(export(args.run, args.output, settings, args.zip, args.sign, show_progress=not args.quiet,
+                         scene=scene), args.output)
     return 0

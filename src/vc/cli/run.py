@@ -1,13 +1,14 @@
 """``vc-run``: a bundle on real frames, as an appliance would run it.
 
     vc-run BUNDLE INPUT -o OUT [--frames first:last:step] [--overlay] [--threads N] [--[no-]parallel-regions]
-           [--fps F] [--no-tracking] [--public-key KEY.pub] [--quiet]
+           [--fps F] [--no-tracking] [--unfit suppress|flag] [--public-key KEY.pub] [--quiet]
 
 INPUT is an image, a folder of images or a video file. Writes ``OUT/detections.jsonl`` (one line per frame: its
-number, name and people with box, score, 17 keypoints with confidences, mask area, the network's handedness and,
-when tracked, the track, whether the person was carried by it unseen and what decided which way they face),
-``OUT/summary.json``
-(frames, people, milliseconds per frame) and with ``--overlay`` the frames drawn with their detections
+number, name, scene fitness — state, the reason of an unfit one and the numbers measured, :mod:`vc.deploy.fitness`
+— and people with box, score, 17 keypoints with confidences, mask area, the network's handedness and, when
+tracked, the track, whether the person was carried by it unseen and what decided which way they face; on an unfit
+frame under ``--unfit flag``, the frame's state), ``OUT/summary.json`` (frames, people, frames per fitness state,
+milliseconds per frame) and with ``--overlay`` the frames drawn with their detections
 (``OUT/overlay.mp4`` for a video, ``OUT/overlays/<name>.png`` otherwise). OUT appears complete or not at all. Bad
 input (a damaged bundle, an unreadable or empty video, frames of another size than the bundle's camera) prints
 one ``error:`` line and exits with status 2.
@@ -18,6 +19,7 @@ from __future__ import annotations
 import argparse
 import json
 import time
+from collections import Counter
 from dataclasses import asdict
 from pathlib import Path
 
@@ -26,9 +28,9 @@ import numpy as np
 from tqdm import tqdm
 
 from vc import __version__
-from vc.cli.common import handles_input_errors, positive_float, positive_int
+from vc.cli.common import fitness_line, handles_input_errors, positive_float, positive_int
 from vc.deploy.frames import Frame, FrameRange, FrameSource
-from vc.deploy.runtime import Runtime
+from vc.deploy.runtime import UNFIT_SETTINGS, Runtime
 from vc.deploy.tracking import Tracker, tracking_rate
 from vc.errors import InputError
 from vc.evaluation.draw import draw_people
@@ -57,6 +59,10 @@ def _parser() -> argparse.ArgumentParser:
                              "which way they face (vc.deploy.tracking)")
     parser.add_argument("--no-tracking", action="store_true",
                         help="each frame on its own: no tracks, facing from appearance only")
+    parser.add_argument("--unfit", choices=UNFIT_SETTINGS, default="suppress",
+                        help="the people of a frame the scene fitness finds dark, overexposed, blurred, moved or "
+                             "changed: withheld (suppress, the default) or kept with the state (flag); a covered "
+                             "frame never yields people")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     return parser
 
@@ -91,10 +97,10 @@ def main(argv: list[str] | None = None) -> int:
     rate = None if args.no_tracking else tracking_rate(source, args.fps)
     tracker = Tracker() if rate else None
     with Runtime(args.bundle, threads=args.threads, parallel_regions=args.parallel_regions,
-                 public_key=args.public_key,
+                 public_key=args.public_key, unfit=args.unfit,
                  weak_people_above=tracker.config.weak_people_above if tracker else None) as runtime:
         width, height = runtime.bundle.frame_size
-        milliseconds, people_count, coasted_count = [], 0, 0
+        milliseconds, people_count, coasted_count, states = [], 0, 0, Counter()
         with atomic_directory(args.output) as staging, open(staging / DETECTIONS, "w") as lines:
             overlays = _Overlays(staging, source, (width, height)) if args.overlay else None
             try:
@@ -104,13 +110,16 @@ def main(argv: list[str] | None = None) -> int:
                                          f"is {frame.image.shape[1]}x{frame.image.shape[0]}, the bundle's camera is "
                                          f"{width}x{height}")
                     start = time.perf_counter()
-                    people = runtime(frame.image)
+                    result = runtime.run(frame.image)
+                    people = result.people
                     if tracker is not None:
-                        people = tracker.update(people, frame.number / rate, frame.image)
+                        people = result.reported(tracker.update(people, frame.number / rate, frame.image))
                     milliseconds.append((time.perf_counter() - start) * 1e3)
                     people_count += len(people)
                     coasted_count += sum(person.coasted for person in people)
+                    states[result.fitness.state] += 1
                     lines.write(json.dumps({"frame": frame.number, "name": frame.name,
+                                            "fitness": result.fitness.to_dict(),
                                             "people": [person.to_dict() for person in people]}) + "\n")
                     if overlays:
                         overlays.add(frame, draw_people(frame.image, people))
@@ -124,6 +133,7 @@ def main(argv: list[str] | None = None) -> int:
                 "threads": args.threads, "parallel_regions": runtime.pool is not None,
                 "tracking": ({"fps": rate, "config": asdict(tracker.config), "tracks": tracker.next_identity - 1,
                               "people_carried": coasted_count} if tracker else None),
+                "fitness": runtime.fitness_summary(states),
                 "ms_per_frame": {"mean": float(np.mean(milliseconds)), "median": float(np.median(milliseconds)),
                                  "p90": float(np.percentile(milliseconds, 90))},
             }
@@ -135,4 +145,5 @@ def main(argv: list[str] | None = None) -> int:
         tracking = summary["tracking"]
         print(f"  tracked at {tracking['fps']:g} frames/s: {tracking['tracks']} tracks, "
               f"{tracking['people_carried']} people carried through frames that missed them")
+    print(fitness_line(summary["fitness"]))
     return 0

@@ -1,5 +1,6 @@
-"""The bundle an appliance embeds: ``manifest.json`` + ``models/<region>.onnx`` + ``models/<region>.heights.npy``,
-as a folder or a zip of one (numpy and the standard library only).
+"""The bundle an appliance embeds: ``manifest.json`` + ``models/<region>.onnx`` + ``models/<region>.heights.npy``
+(+ ``reference/background.npz``, the scene's background as scene fitness measures frames against it), as a folder or
+a zip of one (numpy and the standard library only).
 
 Nothing is loaded before the whole bundle checks out: with a public key, the manifest's signature
 (:mod:`vc.deploy.signing`); the format and its version, every field the runtime reads, every listed file present,
@@ -10,6 +11,11 @@ Each region's ``decode`` names the decoding it was exported with. A switch the d
 (:data:`~vc.deploy.decode.SETTLED_SWITCHES`) is read past at its settled value, the decoding every bundle gets, and
 refused at the other, as is a bundle of the retired 19-map layout (``output.channels``): the refusal names the
 field. The format itself is unchanged, and so is its version (docs/decisions/0003-decoder-settings.md).
+
+The manifest's ``reference`` (``background``, ``background_sha256``) is optional: a bundle exported without its
+scene, or before scene fitness, loads as before, without a reference, and its frames' fitness is ``unknown``
+(:mod:`vc.deploy.fitness`). One that names a reference is checked like every member, and its content too: a
+reference that does not fit the bundle's frames is refused by name.
 """
 
 from __future__ import annotations
@@ -24,6 +30,7 @@ from pathlib import Path, PurePosixPath, PureWindowsPath
 import numpy as np
 
 from vc.deploy.decode import DecodeConfig, RetiredSetting, stored_decode_fields
+from vc.deploy.fitness import SceneReference
 from vc.deploy.heatmaps import ANATOMICAL_CHANNELS, LAYOUTS
 from vc.deploy.signing import SIGNATURE, verify_manifest
 from vc.errors import InputError
@@ -32,6 +39,11 @@ BUNDLE_FORMAT = "visual-compiler bundle"
 BUNDLE_FORMAT_VERSION = 1
 MANIFEST = "manifest.json"
 MODELS = "models"
+#: The manifest's optional entry for the scene fitness reference, and the member it names in bundles vc-export writes.
+REFERENCE, REFERENCE_MEMBER = "reference", "reference/background.npz"
+#: Why a bundle without a reference reports its frames' fitness as unknown.
+NO_REFERENCE = ("the bundle carries no background reference (exported without its scene, or before scene fitness: "
+                "export the run again with vc-export --scene)")
 
 
 def sha256(data: bytes) -> str:
@@ -57,6 +69,7 @@ class Bundle:
     path: Path
     manifest: dict
     regions: list[RegionEntry]
+    reference: SceneReference | None = None  # the scene's background for scene fitness; None: not carried
 
     @property
     def frame_size(self) -> tuple[int, int]:
@@ -178,4 +191,18 @@ def load_bundle(path: str | Path, public_key: Path | bytes | None = None) -> Bun
             precision=str(entry.get("precision", "fp32"))))  # bundles before precisions were all fp32
     if not regions:
         raise InputError(path, f"{MANIFEST}: regions", "the bundle has no regions")
-    return Bundle(path, manifest, regions)
+    return Bundle(path, manifest, regions, _reference(files, manifest, path))
+
+
+def _reference(files: _Files, manifest: dict, path: Path) -> SceneReference | None:
+    """The scene fitness reference the manifest names, checked; None when it names none."""
+    if REFERENCE not in manifest:
+        return None
+    where = f"{MANIFEST}: {REFERENCE}."
+    entry = _require(manifest, REFERENCE, dict, f"{MANIFEST}: ", path)
+    data = _checked(files, entry, "background", where)
+    width, height = _require(manifest, "frame_size", list, f"{MANIFEST}: ", path)
+    try:
+        return SceneReference.from_bytes(data, (int(width), int(height)))
+    except ValueError as error:
+        raise InputError(path, f"{where}background", f"{entry['background']}: {error}") from None

@@ -9,11 +9,22 @@ heights of its own: otherwise a person the neighbour does not find is lost by bo
 can so be kept twice, once by each region (PETS09 frame 1: one walker's feet at y 319 in r1 and 323 in r2, boxes
 at IoU 0.88). Of two people of different regions overlapping more than :data:`SEAM_DUPLICATE_IOU` one is dropped:
 the one kept across a seam, else the weaker.
+
+With each frame's people, its scene fitness is measured against the background the bundle carries
+(:mod:`vc.deploy.fitness`; ``unknown`` for a bundle without one). A ``covered`` frame (black, uniform, a covered lens,
+a lost signal's noise) never yields people. On a frame in any other unfit state (``dark``, ``overexposed``,
+``blurred``, ``moved``, ``changed``) the ``unfit`` setting decides: ``suppress`` (the default) withholds its people,
+``flag`` keeps them, each marked with the frame's state (``Person.unfit``). The default suppresses because on those
+frames a bundle's people are mostly invented (issue 62: a frame of 3 people read as 7 to 89 under the camera-life
+conditions) and a person who is not there costs an appliance more than one it says it cannot see
+(docs/decisions/0013-scene-fitness.md). :meth:`Runtime.run` returns the people with the fitness;
+``runtime(frame)`` returns the people alone, as before, and keeps the fitness in ``runtime.last_fitness``.
 """
 
 from __future__ import annotations
 
-from concurrent.futures import ThreadPoolExecutor
+from collections.abc import Mapping
+from concurrent.futures import ThreadPoolExecutor, wait
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -23,8 +34,9 @@ import onnxruntime as ort
 from vc.cores import usable_cores
 from vc.deploy.areas import ImageArea
 from vc.deploy.boxes import box_iou, foot_points
-from vc.deploy.bundle import Bundle, RegionEntry, load_bundle
+from vc.deploy.bundle import NO_REFERENCE, Bundle, RegionEntry, load_bundle
 from vc.deploy.decode import UPRIGHT_PRIOR, DecodeConfig, DecodedPerson, UprightPrior, decode
+from vc.deploy.fitness import COVERED, STATES, UNFIT_STATES, FrameFitness
 from vc.errors import InputError
 
 #: Two people of different regions overlapping more than this are one person seen by both (module docstring); lower,
@@ -40,6 +52,8 @@ SEAM_FOOT_TOLERANCE = 0.1
 #: win, or dropping it only above SEAM_DUPLICATE_IOU, doubles people at the seams
 #: (docs/decisions/0003-decoder-settings.md).
 ACROSS_SEAM_DUPLICATE_IOU = 0.3
+#: What the runtime does with the people of an unfit frame (module docstring); a covered frame's are always withheld.
+UNFIT_SETTINGS = ("suppress", "flag")
 
 
 @dataclass
@@ -63,6 +77,7 @@ class Person:
     coasted: bool = False  # not seen in this frame: carried by its track (vc.deploy.tracking), without a mask
     weak: bool = False  # below the bundle's centre threshold: decoded only for a tracker to continue a track with
     across_seam: bool = False  # feet in a neighbour's owned area, kept within SEAM_FOOT_TOLERANCE (module docstring)
+    unfit: str | None = None  # the frame's fitness state when it is unfit and its people are kept (unfit="flag")
 
     def frame_mask(self, frame_size: tuple[int, int]) -> np.ndarray:
         """The mask as an (H, W) bool array over a frame of ``frame_size`` (width, height)."""
@@ -81,7 +96,8 @@ class Person:
                 "mask_area_px": int(self.mask.sum()), "handedness": round(self.handedness, 4),
                 "facing": self.facing,
                 **({"track": self.track, "coasted": self.coasted, "weak": self.weak} if self.track is not None
-                   else {})}
+                   else {}),
+                **({"unfit": self.unfit} if self.unfit is not None else {})}
 
     @property
     def handedness(self) -> float:
@@ -200,6 +216,27 @@ class RegionRunner:
         return mask, (x0 + int(first_x), y0 + int(first_y))
 
 
+@dataclass
+class FrameResult:
+    """One frame's people and its scene fitness. ``suppressed``: the frame's people were withheld (a covered frame,
+    or an unfit one under ``unfit="suppress"``): ``people`` is empty whatever the networks found."""
+
+    people: list[Person]
+    fitness: FrameFitness
+    suppressed: bool = False
+
+    def reported(self, people: list[Person]) -> list[Person]:
+        """What to report of ``people`` for this frame — a tracker's output for it, which adds people carried
+        through the frame: none when the frame's people are withheld, each marked with the frame's state when it is
+        unfit."""
+        if self.suppressed:
+            return []
+        if self.fitness.unfit:
+            for person in people:
+                person.unfit = self.fitness.state
+        return people
+
+
 class Runtime:
     """A loaded bundle: ``runtime(frame)`` -> the people in an (H, W, 3) uint8 RGB frame.
 
@@ -213,13 +250,20 @@ class Runtime:
     ``weak_people_above``: also decode the centre peaks between this and the bundle's own threshold, as people
     flagged ``weak`` — for a :class:`vc.deploy.tracking.Tracker`, which keeps only those continuing a track (None:
     the bundle's people only).
+    ``unfit``: ``suppress`` (default) or ``flag``, the people of a frame the scene fitness finds unfit (module
+    docstring).
     """
 
     def __init__(self, bundle: Bundle | str | Path, threads: int | None = None,
                  parallel_regions: bool | None = None, public_key: Path | bytes | None = None,
-                 weak_people_above: float | None = None):
+                 weak_people_above: float | None = None, unfit: str = "suppress"):
         if isinstance(bundle, Bundle) and public_key is not None:
             raise ValueError("a public key checks a bundle as it is loaded: give the bundle's path")
+        if unfit not in UNFIT_SETTINGS:
+            raise InputError(None, "unfit", f"{unfit!r} is not one of {', '.join(UNFIT_SETTINGS)}")
+        self.unfit = unfit
+        #: The fitness of the last frame ``runtime(frame)`` or :meth:`run` saw (None before the first).
+        self.last_fitness: FrameFitness | None = None
         self.bundle = bundle if isinstance(bundle, Bundle) else load_bundle(bundle, public_key)
         cores = usable_cores()
         if parallel_regions is None:
@@ -252,16 +296,47 @@ class Runtime:
     def __exit__(self, *exc_info: object) -> None:
         self.close()
 
-    def __call__(self, frame: np.ndarray) -> list[Person]:
+    def fitness(self, frame: np.ndarray) -> FrameFitness:
+        """The frame's scene fitness against the bundle's background (``unknown`` without one)."""
+        if self.bundle.reference is None:
+            return FrameFitness.unknown(NO_REFERENCE)
+        return self.bundle.reference.fitness(frame)
+
+    def run(self, frame: np.ndarray) -> FrameResult:
+        """The people in an (H, W, 3) uint8 RGB frame and the frame's scene fitness (module docstring). With the
+        regions in a pool, the fitness is measured in this thread while the pool runs the networks, which are
+        discarded when the frame's people are withheld; otherwise first, and the networks are not run then."""
         if not self.runners:
             raise RuntimeError("this runtime was closed")
         self.check_frame(frame)
-        if self.pool is None:
-            per_region = [runner.people(frame) for runner in self.runners]
-        else:
-            per_region = list(self.pool.map(lambda runner: runner.people(frame), self.runners))
-        return without_seam_duplicates(sorted((person for people in per_region for person in people),
-                                              key=lambda person: -person.score))
+        pending = ([self.pool.submit(runner.people, frame) for runner in self.runners]
+                   if self.pool is not None else None)
+        fitness = self.fitness(frame)
+        self.last_fitness = fitness
+        if fitness.state == COVERED or (fitness.unfit and self.unfit == "suppress"):
+            if pending is not None:
+                for future in pending:
+                    future.cancel()
+                wait(pending)
+            return FrameResult([], fitness, suppressed=True)
+        per_region = ([runner.people(frame) for runner in self.runners] if pending is None
+                      else [future.result() for future in pending])
+        result = FrameResult(without_seam_duplicates(sorted((person for people in per_region for person in people),
+                                                            key=lambda person: -person.score)), fitness)
+        result.reported(result.people)  # flagged when unfit
+        return result
+
+    def fitness_summary(self, states: Mapping[str, int]) -> dict:
+        """A run's scene fitness for its summary: frames per state (``states``, counted from each frame's
+        ``fitness.state``; in :data:`~vc.deploy.fitness.STATES` order), how many were unfit, the ``unfit`` setting
+        and, without a reference, why every frame is unknown."""
+        return {"states": {state: states[state] for state in STATES if states.get(state)},
+                "unfit_frames": sum(states.get(state, 0) for state in UNFIT_STATES), "unfit": self.unfit,
+                **({} if self.bundle.reference is not None else {"unknown_because": NO_REFERENCE})}
+
+    def __call__(self, frame: np.ndarray) -> list[Person]:
+        """The people in an (H, W, 3) uint8 RGB frame (:meth:`run`'s, without the fitness: ``last_fitness``)."""
+        return self.run(frame).people
 
 
 def without_seam_duplicates(people: list[Person], iou: float = SEAM_DUPLICATE_IOU) -> list[Person]:

@@ -12,8 +12,9 @@ Every detector's AP50 is also given inside the area the ground truth annotates (
 where a detection of someone the annotation leaves out is not counted against it: beside the plain AP50, which
 stays the headline.
 
-Writes into ``output`` (complete or not at all): ``metrics.json`` (AP50, milliseconds per frame, and for the bundle
-its operating point and recall by person height, group and region), ``precision_recall.png``,
+Writes into ``output`` (complete or not at all): ``metrics.json`` (AP50, milliseconds per frame, for the bundle
+its operating point and recall by person height, group and region, and the scored frames per scene fitness state,
+:mod:`vc.deploy.fitness`), ``precision_recall.png``,
 ``contact_sheet.png`` (frames with the bundle's people in colour and the ground truth in white),
 ``detections.jsonl``, ``pose_agreement.png`` (with an external pose model) and the bundle's miss analysis
 (:mod:`vc.evaluation.misses`): ``misses.json``, ``misses.png`` and ``worst_frames.png``.
@@ -23,6 +24,7 @@ from __future__ import annotations
 
 import json
 import time
+from collections import Counter
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
@@ -76,6 +78,7 @@ class EvaluationRequest:
     # walking direction deciding which way they face (vc.deploy.tracking); None: each frame on its own.
     tracking: TrackingConfig | None = TrackingConfig()
     fps: float | None = None  # of a folder of frames (a video's is read from it); without it a folder is not tracked
+    unfit: str = "suppress"  # the people of an unfit frame: withheld or flagged (vc.deploy.runtime.UNFIT_SETTINGS)
 
 
 @dataclass
@@ -184,7 +187,7 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
     _check_selection(source, truth, request.ground_truth)
     rate = tracking_rate(source, request.fps) if request.tracking is not None else None
     tracker = Tracker(request.tracking) if rate else None
-    with Runtime(request.bundle, threads=request.threads,
+    with Runtime(request.bundle, threads=request.threads, unfit=request.unfit,
                  weak_people_above=request.tracking.weak_people_above if tracker else None) as runtime:
         if request.threads:
             cv2.setNumThreads(request.threads)
@@ -192,7 +195,7 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
         records = {OURS: _Record(), **({OURS_SINGLE_FRAME: _Record()} if tracker else {}),
                    **{name: _Record() for name in others}}
         sheet_numbers = set(np.linspace(0, source.count - 1, min(SHEET_FRAMES, source.count)).round().astype(int))
-        sheet, lines, people_by_frame = [], [], {}
+        sheet, lines, people_by_frame, states = [], [], {}, Counter()
         width, height = runtime.bundle.frame_size
         # A tracker sees every frame from the first selected to the last; only the selected ones are scored.
         seen = (FrameSource(request.video, FrameRange(frames.first, frames.last or max(truth), 1)) if tracker
@@ -205,13 +208,15 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
                                  f"{width}x{height}")
             scored = frame.number in frames
             start = time.perf_counter()
-            people: list[Person] = runtime(frame.image)
+            result = runtime.run(frame.image)
+            people: list[Person] = result.people
             single_frame_seconds = time.perf_counter() - start
             on_its_own = [person for person in people if not person.weak]  # what the bundle reports without a tracker
-            tracked = tracker.update(people, frame.number / rate, frame.image) if tracker else people
+            tracked = result.reported(tracker.update(people, frame.number / rate, frame.image)) if tracker else people
             seconds = time.perf_counter() - start
             if not scored:
                 continue
+            states[result.fitness.state] += 1
             boxes_truth = truth.get(frame.number, np.zeros((0, 4)))
             records[OURS].add(boxes_truth, _detections(tracked), seconds)
             if tracker:
@@ -227,6 +232,7 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
             progress.update()
         progress.close()
         bundle = runtime.bundle
+        fitness = runtime.fitness_summary(states)
     evaluations = {name: evaluate(record.images) for name, record in records.items()}
     annotated_area = AnnotatedArea.of(truth)
     areas = {entry.name: entry.owned_image_area for entry in bundle.regions}
@@ -248,6 +254,7 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
         "detectors": {name: record.summary(evaluations[name], annotated_area.evaluate_inside(record.images))
                       for name, record in records.items()},
         "operating_point": misses.summary() if misses is not None else {},
+        "fitness": fitness,
         **({"pose_agreement": {"reference": next(iter(agreements)), "reference_confidence": REFERENCE_CONFIDENCE,
                                "within_head_sizes": AGREEMENT_HEAD_SIZES,
                                "agreement": {name: agreement.to_dict()

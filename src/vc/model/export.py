@@ -6,6 +6,12 @@ crop width, 3), RGB — and does the rest itself: resize to the network input (b
 (1, C, h, w) in the layout of :mod:`vc.deploy.heatmaps`. Shapes are fixed (one region, one crop window), opset
 17, the classic TorchScript exporter (no ``onnxscript`` needed); the network's config and the region travel as
 metadata.
+
+Given the run's scene, the bundle also carries the scene's background as scene fitness measures frames against it
+(``reference/background.npz``, :class:`vc.deploy.fitness.SceneReference`): the background image every render was
+composited on, reduced, with the scene's camera response. The render dataset keeps neither the image nor the scene's
+path, so the scene is given (``vc-compile`` gives its own; ``vc-export --scene``), and it must be the scene the run
+was trained for: its content hash, which covers the image, is the run's.
 """
 
 from __future__ import annotations
@@ -24,17 +30,19 @@ import torch.nn.functional as F
 from torch import Tensor, nn
 
 from vc.calibration.camera import camera_from_dict
-from vc.deploy.bundle import BUNDLE_FORMAT, BUNDLE_FORMAT_VERSION, MANIFEST, MODELS, sha256
+from vc.deploy.bundle import BUNDLE_FORMAT, BUNDLE_FORMAT_VERSION, MANIFEST, MODELS, REFERENCE, REFERENCE_MEMBER, sha256
+from vc.deploy.fitness import SceneReference
 from vc.deploy.heatmaps import channel_names
 from vc.deploy.signing import SIGNATURE, sign_manifest
 from vc.errors import InputError
-from vc.io import atomic_directory, atomic_path
+from vc.io import atomic_directory, atomic_path, read_image
 from vc.keypoints import COCO_KEYPOINTS, COCO_SKELETON_1BASED
 from vc.model.codec import expected_height_map
 from vc.model.network import ScenePoseNet
 from vc.model.precision import choose_precision
 from vc.model.trainer import Checkpoint, TrainConfig, load_checkpoint
 from vc.render.dataset import RegionData, open_region
+from vc.scenes.loader import Scene
 from vc.versions import package_versions
 
 OPSET = 17
@@ -123,16 +131,39 @@ def _region_data(checkpoint: Checkpoint, config: TrainConfig) -> RegionData:
                                                      f"region was trained on, {dataset}: {error}") from None
 
 
+def scene_reference(scene: Scene) -> SceneReference:
+    """The scene fitness reference of ``scene``: its background image through its camera response."""
+    decode = scene.camera_response().response.decode(np.arange(256, dtype=np.uint8))
+    return SceneReference.of_background(read_image(scene.image_path), decode)
+
+
+def with_reference(manifest: dict, files: dict[str, bytes], reference: SceneReference,
+                   made_from: str) -> tuple[dict, dict[str, bytes]]:
+    """The bundle ``manifest`` and ``files`` with ``reference`` added as :data:`~vc.deploy.bundle.REFERENCE_MEMBER`
+    (``made_from`` says from what, for people reading the manifest)."""
+    data = reference.to_bytes()
+    height, width = reference.cells.shape[:2]
+    entry = {"background": REFERENCE_MEMBER, "background_sha256": sha256(data), "made_from": made_from,
+             "cells": [width, height], "cell_px": reference.cell_px}
+    return {**manifest, REFERENCE: entry}, {**files, REFERENCE_MEMBER: data}
+
+
 def bundle_files(run: Path, precision: str = "fp32", eval_samples: int = 200, calibration_samples: int = 64,
-                 show_progress: bool = False) -> tuple[dict, dict[str, bytes]]:
+                 show_progress: bool = False, scene: Scene | None = None) -> tuple[dict, dict[str, bytes]]:
     """The manifest and the files (relative name -> bytes) of the bundle of a finished run.
 
     Every region is exported at fp32, converted to each precision and measured on up to ``eval_samples``
     held-out renders (0: no measurement; then only ``precision`` is built); the model kept is ``precision``'s
-    (``auto``: per region, int8 where it holds, see :func:`vc.model.precision.auto_precision`).
+    (``auto``: per region, int8 where it holds, see :func:`vc.model.precision.auto_precision`). With ``scene``
+    (the run's), the bundle carries its scene fitness reference (module docstring).
     """
     checkpoints = _finished_checkpoints(run)
     first = checkpoints[0].content
+    if scene is not None and scene.content_hash != first["scene_hash"]:
+        raise InputError(scene.path, "scene_hash", f"is not the scene run {run} was trained for (scene "
+                                                   f"{first['scene']!r}, {first['scene_hash'][:12]}…; this one "
+                                                   f"{scene.content_hash[:12]}…): its background would not be the "
+                                                   f"renders'")
     first_config = checkpoints[0].config
     layouts = {checkpoint.content["region"]: checkpoint.config.network.heatmap_channels for checkpoint in checkpoints}
     if len(set(layouts.values())) > 1:  # the manifest names one output layout for every region
@@ -178,6 +209,9 @@ def bundle_files(run: Path, precision: str = "fp32", eval_samples: int = 200, ca
         "keypoints": list(COCO_KEYPOINTS), "skeleton": [list(pair) for pair in COCO_SKELETON_1BASED],
         "regions": regions, "versions": package_versions(),
     }
+    if scene is not None:
+        manifest, files = with_reference(manifest, files, scene_reference(scene),
+                                         f"{scene.image_path.name}, the background of scene {scene.name!r}")
     return manifest, files
 
 

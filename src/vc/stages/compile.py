@@ -121,7 +121,8 @@ class Compilation:
         return {"held_out": {result.region: {key: result.to_dict()[key] for key in kept} for result in results}}
 
     def export(self) -> dict:
-        result = export(self.run_folder, self.bundle, self.config.export, show_progress=self.show_progress)
+        result = export(self.run_folder, self.bundle, self.config.export, show_progress=self.show_progress,
+                        scene=self.scene)
         self.reporter.exported(result, self.bundle)
         size = sum(path.stat().st_size for path in self.bundle.rglob("*") if path.is_file())
         return {"bundle_bytes": size, "precision": {r["name"]: r["precision"] for r in result.manifest["regions"]}}

@@ -1,0 +1,466 @@
+"""Scene fitness (vc.deploy.fitness) on the hard cases a camera meets: black, uniform, noise, dark, bright, white
+balance, IR monochrome, blur and a nudge, on a compiled test bundle given a background reference and on the real
+PETS09 and TUD-Stadtmitte frames; a covered frame never yields people; the numbers stay finite on extreme frames; a
+bundle without a reference reports ``unknown``, a damaged one is refused by name."""
+
+from __future__ import annotations
+
+import json
+import math
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import PETS_DATA, REPO
+from dataset_factory import INPUT_SIZE
+from hard_cases.hard_case_settings import PROPERTY
+from hypothesis import given
+from hypothesis import strategies as st
+
+from vc.calibration.response import Response
+from vc.cli.run import main as vc_run
+from vc.deploy import fitness as fit
+from vc.deploy.bundle import MANIFEST, NO_REFERENCE, REFERENCE_MEMBER, load_bundle, sha256
+from vc.deploy.fitness import FrameFitness, SceneReference
+from vc.deploy.runtime import Runtime
+from vc.errors import InputError
+from vc.io import write_image
+from vc.model.export import with_reference, write_bundle
+
+SRGB = Response("srgb")
+DECODE = SRGB.decode(np.arange(256, dtype=np.uint8))
+TUD_FRAMES = REPO.parent / "shared" / "data" / "tud_stadtmitte" / "frames"
+NUMBERS = ("spread", "coherence", "exposure_stops", "matching", "sharpness", "shift_peak", "colour_left",
+           "colour_cast_stops")
+
+
+def _smooth(rng: np.random.Generator, shape: tuple[int, int], size: int) -> np.ndarray:
+    """Noise smoothed over about ``size`` pixels (numpy only: a Gaussian in the Fourier domain), zero mean, unit
+    spread."""
+    spectrum = np.fft.rfft2(rng.normal(size=shape))
+    fy, fx = np.fft.fftfreq(shape[0])[:, None], np.fft.rfftfreq(shape[1])[None, :]
+    field = np.fft.irfft2(spectrum * np.exp(-2 * (np.pi * size) ** 2 * (fx ** 2 + fy ** 2)), s=shape)
+    return (field - field.mean()) / field.std()
+
+
+def scene_background(size: tuple[int, int] = INPUT_SIZE, seed: int = 7) -> np.ndarray:
+    """A stand-in for a scene's background at ``size``: coloured ground (greyish paving, greener and redder
+    patches) varying over a few pixels and over tens, sharp-edged blocks (kerbs, a building) and a little sensor
+    noise — the structure and colour the fitness measurements read, not a ramp."""
+    width, height = size
+    rng = np.random.default_rng(seed)
+    image = np.empty((height, width, 3), np.float32)
+    broad, fine = _smooth(rng, (height, width), 8), _smooth(rng, (height, width), 1.5)
+    image[:] = 120 + 30 * broad[..., None] + 10 * fine[..., None]
+    image[..., 1] += 25 * _smooth(rng, (height, width), 10)  # grass-like patches
+    image[..., 0] += 20 * _smooth(rng, (height, width), 12)
+    for _ in range(6):  # sharp-edged blocks of their own colour
+        x0, y0 = rng.integers(0, width - 20), rng.integers(0, height - 12)
+        image[y0:y0 + rng.integers(6, 16), x0:x0 + rng.integers(8, 30)] = rng.uniform(40, 220, 3)
+    image += rng.normal(0, 1.0, image.shape)
+    return np.clip(image, 0, 255).round().astype(np.uint8)
+
+
+def exposed(image: np.ndarray, stops: float) -> np.ndarray:
+    return SRGB.encode(SRGB.decode(image) * np.float32(2.0 ** stops))
+
+
+def gains(image: np.ndarray, red: float, blue: float) -> np.ndarray:
+    return np.clip(image * np.array([red, 1.0, blue], np.float32), 0, 255).astype(np.uint8)
+
+
+def monochrome(image: np.ndarray) -> np.ndarray:
+    luma = (image @ np.array([0.299, 0.587, 0.114], np.float32)).round().astype(np.uint8)
+    return np.repeat(luma[..., None], 3, axis=2)
+
+
+def blurred(image: np.ndarray, sigma: float) -> np.ndarray:
+    """A Gaussian blur (numpy only, in the Fourier domain, the border wrapped)."""
+    fy, fx = np.fft.fftfreq(image.shape[0])[:, None], np.fft.rfftfreq(image.shape[1])[None, :]
+    kernel = np.exp(-2 * (np.pi * sigma) ** 2 * (fx ** 2 + fy ** 2))
+    out = np.stack([np.fft.irfft2(np.fft.rfft2(image[..., c].astype(np.float64)) * kernel, s=image.shape[:2])
+                    for c in range(3)], axis=-1)
+    return np.clip(out, 0, 255).round().astype(np.uint8)
+
+
+def shifted(image: np.ndarray, dx: int, dy: int) -> np.ndarray:
+    """The view moved by (dx, dy) pixels: the content moves, the edge it leaves repeats its border."""
+    padded = np.pad(image, ((abs(dy), abs(dy)), (abs(dx), abs(dx)), (0, 0)), mode="edge")
+    height, width = image.shape[:2]
+    return np.ascontiguousarray(padded[abs(dy) - dy:abs(dy) - dy + height, abs(dx) - dx:abs(dx) - dx + width])
+
+
+#: The hard cases on the test scene: name -> (frame from the background, the state it must read).
+HARD_CASES = {
+    "black": (np.zeros_like, fit.COVERED),
+    "white": (lambda image: np.full_like(image, 255), fit.COVERED),
+    "uniform grey": (lambda image: np.full_like(image, 128), fit.COVERED),
+    "noise": (lambda image: np.random.default_rng(0).integers(0, 256, image.shape, dtype=np.uint8), fit.COVERED),
+    "-2 stops": (lambda image: exposed(image, -2), fit.DARK),
+    "-3 stops": (lambda image: exposed(image, -3), fit.DARK),
+    "+2 stops": (lambda image: exposed(image, 2), fit.OVEREXPOSED),
+    "white balance warm": (lambda image: gains(image, 1.25, 0.8), fit.CHANGED),
+    "white balance cool": (lambda image: gains(image, 0.8, 1.25), fit.CHANGED),
+    "IR monochrome": (monochrome, fit.CHANGED),
+}
+
+
+def _numbers_finite(fitness: FrameFitness) -> bool:
+    values = [getattr(fitness, name) for name in NUMBERS] + list(fitness.shift_px)
+    return all(value is None or math.isfinite(value) for value in values)
+
+
+def _networks_people(runtime: Runtime, frame: np.ndarray) -> list:
+    """What the bundle's networks find in ``frame``, whatever its fitness."""
+    return [person for runner in runtime.runners for person in runner.people(frame)]
+
+
+def _bundle_files(folder: Path) -> tuple[dict, dict[str, bytes]]:
+    manifest = json.loads((folder / MANIFEST).read_text())
+    files = {path.relative_to(folder).as_posix(): path.read_bytes() for path in folder.rglob("*")
+             if path.is_file() and path.name != MANIFEST}
+    return manifest, files
+
+
+@pytest.fixture(scope="module")
+def background() -> np.ndarray:
+    return scene_background()
+
+
+@pytest.fixture(scope="module")
+def referenced_bundle(bundle, background, tmp_path_factory) -> Path:
+    """The compiled test bundle carrying the test scene's background as its reference, decoding every centre peak
+    above 0.001 as a person, so that its network reports people on any frame: what withholding them changes shows."""
+    manifest, files = _bundle_files(bundle)
+    for region in manifest["regions"]:
+        region["decode"]["centre_threshold"] = 0.001
+    manifest, files = with_reference(manifest, files, SceneReference.of_background(background, DECODE),
+                                     "the test scene's background")
+    output = tmp_path_factory.mktemp("referenced") / "bundle"
+    write_bundle(manifest, files, output, as_zip=False)
+    return output
+
+
+def test_the_reference_round_trips_and_the_background_itself_is_ok(referenced_bundle, background):
+    loaded = load_bundle(referenced_bundle)
+    made = SceneReference.of_background(background, DECODE)
+    assert np.array_equal(loaded.reference.cells, made.cells) and loaded.reference.cell_px == fit.MIN_CELL_PX
+    fitness = loaded.reference.fitness(background)
+    assert fitness.state == fit.OK and fitness.reason == ""
+    assert fitness.exposure_stops == 0 and fitness.matching == 1 and fitness.shift_px == pytest.approx((0, 0), abs=1e-6)
+    assert fitness.sharpness == pytest.approx(1) and fitness.colour_left == pytest.approx(1)
+    assert fitness.colour_cast_stops == 0 and fitness.spread == pytest.approx(1)
+
+
+@pytest.mark.parametrize("case", list(HARD_CASES))
+def test_each_hard_case_reads_its_state_and_an_unfit_frame_yields_no_people(referenced_bundle, background, case):
+    change, expected = HARD_CASES[case]
+    frame = change(background)
+    with Runtime(referenced_bundle, threads=1) as runtime:
+        result = runtime.run(frame)
+        assert result.fitness.state == expected, result.fitness
+        assert result.fitness.reason and _numbers_finite(result.fitness)
+        assert result.suppressed and result.people == [] and runtime(frame) == []
+        assert runtime.last_fitness.state == expected
+        assert _networks_people(runtime, frame), "the test bundle's network reports people on any frame"
+    with Runtime(referenced_bundle, threads=1, unfit="flag") as runtime:
+        people = runtime(frame)
+        if expected == fit.COVERED:  # whatever the setting
+            assert people == []
+        else:
+            assert people and all(person.unfit == expected and person.to_dict()["unfit"] == expected
+                                  for person in people)
+
+
+def test_a_fit_frame_keeps_its_people_unflagged(referenced_bundle, background):
+    frame = background.copy()
+    frame[24:40, 60:66] = (40, 50, 60)  # someone standing there, a quarter of the frame tall (PETS09: 50-100 of 576 px)
+    with Runtime(referenced_bundle, threads=1) as runtime:
+        result = runtime.run(frame)
+        assert result.fitness.state == fit.OK and not result.suppressed
+        assert result.people and all(person.unfit is None and "unfit" not in person.to_dict()
+                                     for person in result.people)
+        assert result.reported(result.people) == result.people
+
+
+@pytest.mark.parametrize(("name", "frame"), [
+    ("all 0", np.zeros((64, 128, 3), np.uint8)),
+    ("all 255", np.full((64, 128, 3), 255, np.uint8)),
+    ("one bright pixel", np.pad(np.full((1, 1, 3), 255, np.uint8), ((30, 33), (60, 67), (0, 0)))),
+    ("one bright column", np.pad(np.full((64, 1, 3), 255, np.uint8), ((0, 0), (5, 122), (0, 0)))),
+    ("one bright row", np.pad(np.full((1, 128, 3), 200, np.uint8), ((63, 0), (0, 0), (0, 0)))),
+    ("alternating columns", np.tile(np.array([0, 255], np.uint8)[None, :, None], (64, 64, 3))),
+    ("one channel only", np.pad(np.full((64, 128, 1), 255, np.uint8), ((0, 0), (0, 0), (0, 2)))),
+])
+def test_the_numbers_stay_finite_on_extreme_frames_and_references(background, name, frame):
+    for reference_image in (background, frame, np.zeros_like(frame), np.full_like(frame, 255)):
+        reference = SceneReference.of_background(reference_image, DECODE)
+        for measured in (frame, background, np.zeros_like(frame)):
+            fitness = reference.fitness(measured)
+            assert fitness.state in fit.STATES and _numbers_finite(fitness), (name, fitness)
+            json.dumps(fitness.to_dict(), allow_nan=False)
+
+
+@st.composite
+def _drawn_frames(draw) -> np.ndarray:
+    """A 128x64 frame of a flat colour, rectangles of other colours (down to one pixel, up to the frame), and noise
+    of any strength: every extreme the measurements meet in a frame or a background."""
+    frame = np.empty((64, 128, 3), np.uint8)
+    frame[:] = draw(st.tuples(*[st.integers(0, 255)] * 3))
+    for _ in range(draw(st.integers(0, 6))):
+        x0, y0 = draw(st.integers(0, 127)), draw(st.integers(0, 63))
+        frame[y0:y0 + draw(st.integers(1, 64)), x0:x0 + draw(st.integers(1, 128))] = \
+            draw(st.tuples(*[st.integers(0, 255)] * 3))
+    sigma = draw(st.sampled_from([0.0, 0.5, 4.0, 40.0, 200.0]))
+    if sigma:
+        noise = np.random.default_rng(draw(st.integers(0, 2 ** 16))).normal(0, sigma, frame.shape)
+        frame = np.clip(frame + noise, 0, 255).astype(np.uint8)
+    return frame
+
+
+@PROPERTY
+@given(frame=_drawn_frames(), background=_drawn_frames())
+def test_any_frame_against_any_background_gives_a_state_and_finite_numbers(frame, background):
+    reference = SceneReference.of_background(background, DECODE)
+    fitness = reference.fitness(frame)
+    assert fitness.state in fit.STATES and fitness.state != fit.UNKNOWN and _numbers_finite(fitness)
+    json.dumps(fitness.to_dict(), allow_nan=False)
+    if np.ptp(frame.reshape(-1, 3) @ fit.LUMA) == 0:  # a uniform frame shows no scene
+        assert fitness.state == fit.COVERED
+
+
+def test_a_black_reference_finds_a_black_frame_covered():
+    reference = SceneReference.of_background(np.zeros((64, 128, 3), np.uint8), DECODE)
+    assert reference.fitness(np.zeros((64, 128, 3), np.uint8)).state == fit.COVERED
+
+
+def test_blur_and_a_nudge_read_blurred_and_moved_on_the_test_scene(background):
+    reference = SceneReference.of_background(background, DECODE)
+    assert reference.fitness(blurred(background, 2)).state == fit.BLURRED
+    moved = reference.fitness(shifted(background, 12, 0))
+    assert moved.state == fit.MOVED and moved.shift_px[0] == pytest.approx(12, abs=2)
+    assert reference.fitness(shifted(background, 1, 0)).state == fit.OK
+
+
+def test_a_bundle_without_a_reference_reports_unknown_and_its_people_as_before(bundle, background):
+    with Runtime(bundle, threads=1) as runtime:
+        assert runtime.bundle.reference is None
+        result = runtime.run(np.zeros_like(background))
+        assert result.fitness.state == fit.UNKNOWN and result.fitness.reason == NO_REFERENCE
+        assert not result.suppressed and result.fitness.to_dict() == {"state": "unknown"}
+        assert sorted(p.box.tolist() for p in runtime(background)) == \
+            sorted(p.box.tolist() for p in _networks_people(runtime, background))
+        assert runtime.fitness_summary({"unknown": 3})["unknown_because"] == NO_REFERENCE
+
+
+def test_the_unfit_setting_is_checked(bundle):
+    with pytest.raises(InputError, match="unfit: 'drop' is not one of suppress, flag"):
+        Runtime(bundle, unfit="drop")
+
+
+def _damage_bytes(folder: Path) -> None:
+    path = folder / REFERENCE_MEMBER
+    data = bytearray(path.read_bytes())
+    data[len(data) // 2] ^= 0xFF
+    path.write_bytes(bytes(data))
+
+
+def _rewritten(folder: Path, arrays: dict) -> None:
+    """The reference replaced by ``arrays`` and the manifest's hash rewritten to match: damaged content that the
+    hash does not catch."""
+    import io
+
+    buffer = io.BytesIO()
+    np.savez(buffer, **arrays)
+    _replaced(folder, buffer.getvalue())
+
+
+def _arrays(folder: Path, **changes) -> dict:
+    with np.load(folder / REFERENCE_MEMBER) as archive:
+        arrays = {name: archive[name] for name in archive.files}
+    arrays.update(changes)
+    return {name: value for name, value in arrays.items() if value is not None}
+
+
+@pytest.mark.parametrize(("damage", "field", "message"), ids=[
+    "changed bytes", "missing", "NaN cells", "another frame size", "an array missing", "not an archive"], argvalues=[
+    (_damage_bytes, "reference.background_sha256", "reference/background.npz does not match its SHA-256"),
+    (lambda folder: (folder / REFERENCE_MEMBER).unlink(), "reference.background",
+     "reference/background.npz is missing"),
+    (lambda folder: _rewritten(folder, _arrays(folder, cells=np.full((16, 32, 3), np.nan, np.float32))),
+     "reference.background", "cells must hold finite numbers"),
+    (lambda folder: _rewritten(folder, _arrays(folder, cells=np.zeros((8, 16, 3), np.float32))),
+     "reference.background", "do not fit the bundle's 128x64 frames"),
+    (lambda folder: _rewritten(folder, _arrays(folder, decode=None)), "reference.background", "lacks the array"),
+    (lambda folder: _replaced(folder, b"not an archive"), "reference.background", "not a readable numpy archive"),
+])
+def test_a_damaged_reference_is_refused_by_name(referenced_bundle, tmp_path, capsys, damage, field, message):
+    copy = Path(shutil.copytree(referenced_bundle, tmp_path / "copy"))
+    damage(copy)
+    with pytest.raises(InputError, match=message) as refused:
+        load_bundle(copy)
+    assert refused.value.field == f"manifest.json: {field}"
+    frames = tmp_path / "frames"
+    write_image(frames / "a.png", np.zeros((INPUT_SIZE[1], INPUT_SIZE[0], 3), np.uint8))
+    assert vc_run([str(copy), str(frames), "-o", str(tmp_path / "out"), "--quiet"]) == 2
+    assert message.split(" (")[0] in capsys.readouterr().err and not (tmp_path / "out").exists()
+
+
+def _replaced(folder: Path, data: bytes) -> None:
+    """The reference's bytes replaced by ``data``, the manifest's hash rewritten to match."""
+    (folder / REFERENCE_MEMBER).write_bytes(data)
+    manifest = json.loads((folder / MANIFEST).read_text())
+    manifest["reference"]["background_sha256"] = sha256(data)
+    (folder / MANIFEST).write_text(json.dumps(manifest))
+
+
+def test_vc_run_writes_each_frames_fitness_and_counts_the_states(referenced_bundle, background, tmp_path, capsys):
+    frames = tmp_path / "frames"
+    for name, image in (("a-ok", background), ("b-black", np.zeros_like(background)),
+                        ("c-dark", exposed(background, -2)), ("d-ok", background)):
+        write_image(frames / f"{name}.png", image)
+    output = tmp_path / "out"
+    assert vc_run([str(referenced_bundle), str(frames), "-o", str(output), "--threads", "1", "--fps", "5",
+                   "--quiet"]) == 0
+    lines = [json.loads(line) for line in (output / "detections.jsonl").read_text().splitlines()]
+    assert [line["fitness"]["state"] for line in lines] == ["ok", "covered", "dark", "ok"]
+    assert lines[1]["people"] == [] and lines[2]["people"] == []  # not even people a track carries
+    assert lines[0]["people"] and "reason" not in lines[0]["fitness"] and "dark" in lines[2]["fitness"]["reason"]
+    summary = json.loads((output / "summary.json").read_text())["fitness"]
+    assert summary == {"states": {"ok": 2, "dark": 1, "covered": 1}, "unfit_frames": 2, "unfit": "suppress"}
+    assert "scene fitness: 2 ok, 1 dark, 1 covered; the people of the 2 unfit frame(s) withheld" in \
+        capsys.readouterr().out
+    flagged = tmp_path / "flagged"
+    assert vc_run([str(referenced_bundle), str(frames), "-o", str(flagged), "--threads", "1", "--no-tracking",
+                   "--unfit", "flag", "--quiet"]) == 0
+    lines = [json.loads(line) for line in (flagged / "detections.jsonl").read_text().splitlines()]
+    assert lines[1]["people"] == [] and lines[2]["people"]
+    assert all(person["unfit"] == "dark" for person in lines[2]["people"])
+
+
+def test_vc_eval_counts_the_scored_frames_per_state(referenced_bundle, background, tmp_path, capsys):
+    from vc.cli.eval import main as vc_eval
+
+    frames = tmp_path / "frames"
+    for index, image in enumerate((background, np.zeros_like(background), background, exposed(background, -3))):
+        write_image(frames / f"{index:02d}.png", image)
+    (tmp_path / "gt.txt").write_text("".join(f"{n},1,60,24,6,16,1,-1,-1,-1\n" for n in range(1, 5)))
+    assert vc_eval([str(referenced_bundle), "--video", str(frames), "--gt", str(tmp_path / "gt.txt"), "-o",
+                    str(tmp_path / "out"), "--no-hog", "--threads", "1", "--frames", "1:4", "--quiet"]) == 0
+    fitness = json.loads((tmp_path / "out" / "metrics.json").read_text())["fitness"]
+    assert fitness == {"states": {"ok": 2, "dark": 1, "covered": 1}, "unfit_frames": 2, "unfit": "suppress"}
+    assert "scene fitness: 2 ok, 1 dark, 1 covered" in capsys.readouterr().out
+    lines = [json.loads(line) for line in (tmp_path / "out" / "detections.jsonl").read_text().splitlines()]
+    assert lines[1]["people"] == [] and lines[3]["people"] == []
+
+
+def test_vc_run_on_a_bundle_without_a_reference_says_why_fitness_is_unknown(bundle, background, tmp_path, capsys):
+    frames = tmp_path / "frames"
+    write_image(frames / "a.png", background)
+    assert vc_run([str(bundle), str(frames), "-o", str(tmp_path / "out"), "--quiet"]) == 0
+    line = json.loads((tmp_path / "out" / "detections.jsonl").read_text())
+    assert line["fitness"] == {"state": "unknown"}
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())["fitness"]
+    assert summary["states"] == {"unknown": 1} and summary["unknown_because"] == NO_REFERENCE
+    assert "scene fitness unknown: the bundle carries no background reference" in capsys.readouterr().out
+
+
+def test_vc_export_refuses_the_background_of_another_scene(trained_run, tmp_path, capsys):
+    from vc.cli.export import main as vc_export
+
+    scene = REPO / "examples" / "scenes" / "demo" / "scene.yaml"
+    assert vc_export([str(trained_run), "-o", str(tmp_path / "bundle"), "--scene", str(scene), "--quiet"]) == 2
+    error = capsys.readouterr().err
+    assert "scene_hash" in error and "is not the scene run" in error and not (tmp_path / "bundle").exists()
+
+
+def test_the_export_stage_given_the_runs_scene_writes_its_reference(trained_run, background, tmp_path):
+    """What vc-compile's export does with its scene (and vc-export --scene): here a stand-in for the test run's scene,
+    its hash the run's, its background the test scene's."""
+    from types import SimpleNamespace
+
+    from vc.stages.config import ExportSettings
+    from vc.stages.export import export
+
+    write_image(tmp_path / "background.png", background)
+    scene = SimpleNamespace(content_hash="f" * 64, image_path=tmp_path / "background.png", name="flat",
+                            path=tmp_path / "scene.yaml", camera_response=lambda: SimpleNamespace(response=SRGB))
+    result = export(trained_run, tmp_path / "bundle", ExportSettings(precision="fp32", eval_samples=0),
+                    show_progress=False, scene=scene)
+    entry = result.manifest["reference"]
+    assert entry["background"] == REFERENCE_MEMBER and entry["cells"] == [32, 16] and entry["cell_px"] == 4
+    assert entry["background_sha256"] == sha256((tmp_path / "bundle" / REFERENCE_MEMBER).read_bytes())
+    assert result.bundle.reference.fitness(background).state == fit.OK
+
+
+def test_a_scenes_reference_is_its_background_through_its_response():
+    from vc.io import read_image
+    from vc.model.export import scene_reference
+    from vc.scenes.loader import load_scene
+
+    scene = load_scene(REPO / "examples" / "scenes" / "demo" / "scene.yaml")
+    reference = scene_reference(scene)
+    background = read_image(scene.image_path)
+    assert reference.cells.shape == (background.shape[0] // reference.cell_px,
+                                     background.shape[1] // reference.cell_px, 3)
+    assert reference.fitness(background).state == fit.OK
+
+
+# Real cameras (development data, skipped when absent): every real frame stays ok, the conditions read as named.
+
+def _pets_frames(numbers: set[int]) -> dict[int, np.ndarray]:
+    import cv2
+
+    capture, frames = cv2.VideoCapture(str(PETS_DATA / "vtest.avi")), {}
+    for number in range(1, max(numbers) + 1):
+        ok, bgr = capture.read()
+        assert ok
+        if number in numbers:
+            frames[number] = np.ascontiguousarray(bgr[:, :, ::-1])
+    return frames
+
+
+@pytest.fixture(scope="module")
+def pets(pets_data) -> tuple[SceneReference, list[np.ndarray]]:
+    from vc.io import read_image
+
+    frames = _pets_frames(set(range(1, 401, 40)))
+    return SceneReference.of_background(read_image(pets_data / "background.png"), DECODE), list(frames.values())
+
+
+@pytest.fixture(scope="module")
+def tud() -> tuple[SceneReference, list[np.ndarray]]:
+    """TUD-Stadtmitte has no bundle: its reference is the median of its frames, as a user would make it."""
+    from vc.io import read_image
+
+    paths = sorted(TUD_FRAMES.glob("*.png"))
+    if not paths:
+        pytest.skip(f"TUD-Stadtmitte frames not found at {TUD_FRAMES} (development data, not shipped)")
+    frames = [read_image(path) for path in paths]
+    median = np.median(np.stack(frames), axis=0).round().astype(np.uint8)
+    return SceneReference.of_background(median, DECODE), frames[::18]
+
+
+REAL_CONDITIONS = {
+    "as recorded": (lambda image: image, fit.OK),
+    "black": (np.zeros_like, fit.COVERED),
+    "noise": (lambda image: np.random.default_rng(1).integers(0, 256, image.shape, dtype=np.uint8), fit.COVERED),
+    "-2 stops": (lambda image: exposed(image, -2), fit.DARK),
+    "-3 stops": (lambda image: exposed(image, -3), fit.DARK),
+    "+2 stops": (lambda image: exposed(image, 2), fit.OVEREXPOSED),
+    "white balance warm": (lambda image: gains(image, 1.25, 0.8), fit.CHANGED),
+    "IR monochrome": (monochrome, fit.CHANGED),
+    "blur sigma 2": (lambda image: blurred(image, 2), fit.BLURRED),
+    "blur sigma 4": (lambda image: blurred(image, 4), fit.BLURRED),
+    "shifted 12 px": (lambda image: shifted(image, 12, 0), fit.MOVED),
+}
+
+
+@pytest.mark.parametrize("camera", ["pets", "tud"])
+@pytest.mark.parametrize("condition", list(REAL_CONDITIONS))
+def test_real_frames_are_ok_and_their_conditions_read_as_named(request, camera, condition):
+    reference, frames = request.getfixturevalue(camera)
+    change, expected = REAL_CONDITIONS[condition]
+    states = [reference.fitness(change(frame)).state for frame in frames]
+    assert states == [expected] * len(frames)
