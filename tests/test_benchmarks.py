@@ -509,3 +509,11 @@ def test_the_committed_reports_are_what_the_benchmarks_write_from_their_numbers(
     write(json.loads((folder / f"{report}.json").read_text()), tmp_path)
     assert (tmp_path / f"{report}.md").read_text() == (folder / f"{report}.md").read_text()
     assert (tmp_path / f"{report}.json").read_text() == (folder / f"{report}.json").read_text()
+
+
+def test_the_committed_robustness_report_is_what_the_benchmark_writes_from_its_numbers():
+    from benchmarks import robustness
+
+    folder = results_folder("robustness")
+    report = json.loads((folder / "robustness.json").read_text())
+    assert robustness.markdown(report) == (folder / "robustness.md").read_text()
