@@ -61,7 +61,7 @@ from vc.calibration.materials import luminance  # noqa: E402
 from vc.calibration.response import Response  # noqa: E402
 from vc.cores import cpu_facts, usable_cores  # noqa: E402
 from vc.deploy.frames import Frame, FrameRange, FrameSource, read_frame_image  # noqa: E402
-from vc.deploy.runtime import UNFIT_SETTINGS, Runtime  # noqa: E402
+from vc.deploy.runtime import DEFAULT_UNFIT, UNFIT_SETTINGS, Runtime  # noqa: E402
 from vc.errors import InputError  # noqa: E402
 from vc.evaluation.baselines import Detections, YoloPoseOnnx  # noqa: E402
 from vc.evaluation.metrics import ImageResult, evaluate  # noqa: E402
@@ -497,7 +497,7 @@ class RobustnessRequest:
     conditions: list[str] | None = None  # None: every camera-life condition; empty: none
     nudge: int = NUDGE_PX
     threads: int | None = None
-    unfit: str = "suppress"  # the runtime's setting for the people of an unfit frame (vc.deploy.runtime)
+    unfit: str = DEFAULT_UNFIT  # the runtime's setting for the people of an unfit frame (vc.deploy.runtime)
     out: Path = field(default_factory=lambda: results_folder("robustness"))
     quiet: bool = False
 
@@ -543,7 +543,7 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--nudge", type=int, default=NUDGE_PX, help=f"pixels the camera is nudged (default "
                                                                     f"{NUDGE_PX})")
     parser.add_argument("--threads", type=int, default=None, help="threads per detector (default: all usable)")
-    parser.add_argument("--unfit", choices=UNFIT_SETTINGS, default="suppress",
+    parser.add_argument("--unfit", choices=UNFIT_SETTINGS, default=DEFAULT_UNFIT,
                         help="the bundle's people on frames its scene fitness finds unfit: withheld, as shipped "
                              "(default), or kept, to measure the networks alone")
     parser.add_argument("--out", type=Path, default=results_folder("robustness"))

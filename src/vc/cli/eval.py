@@ -30,7 +30,7 @@ from pathlib import Path
 from vc import __version__
 from vc.cli.common import fitness_line, handles_input_errors, positive_float, positive_int
 from vc.deploy.frames import FrameRange
-from vc.deploy.runtime import UNFIT_SETTINGS
+from vc.deploy.runtime import DEFAULT_UNFIT, UNFIT_SETTINGS
 from vc.deploy.tracking import TrackingConfig
 from vc.errors import InputError
 from vc.evaluation.misses import MissAnalysis
@@ -68,7 +68,7 @@ def _parser() -> argparse.ArgumentParser:
                              "frames is tracked only when given)")
     parser.add_argument("--no-tracking", action="store_true",
                         help="each frame on its own: no tracks, facing from appearance only")
-    parser.add_argument("--unfit", choices=UNFIT_SETTINGS, default="suppress",
+    parser.add_argument("--unfit", choices=UNFIT_SETTINGS, default=DEFAULT_UNFIT,
                         help="the bundle's people on a frame the scene fitness finds unfit: withheld (suppress, the "
                              "default, as vc-run) or kept (flag); a covered frame never yields people")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")

@@ -30,7 +30,7 @@ from tqdm import tqdm
 from vc import __version__
 from vc.cli.common import fitness_line, handles_input_errors, positive_float, positive_int
 from vc.deploy.frames import Frame, FrameRange, FrameSource
-from vc.deploy.runtime import UNFIT_SETTINGS, Runtime
+from vc.deploy.runtime import DEFAULT_UNFIT, UNFIT_SETTINGS, Runtime
 from vc.deploy.tracking import Tracker, tracking_rate
 from vc.errors import InputError
 from vc.evaluation.draw import draw_people
@@ -59,7 +59,7 @@ def _parser() -> argparse.ArgumentParser:
                              "which way they face (vc.deploy.tracking)")
     parser.add_argument("--no-tracking", action="store_true",
                         help="each frame on its own: no tracks, facing from appearance only")
-    parser.add_argument("--unfit", choices=UNFIT_SETTINGS, default="suppress",
+    parser.add_argument("--unfit", choices=UNFIT_SETTINGS, default=DEFAULT_UNFIT,
                         help="the people of a frame the scene fitness finds dark, overexposed, blurred, moved or "
                              "changed: withheld (suppress, the default) or kept with the state (flag); a covered "
                              "frame never yields people")

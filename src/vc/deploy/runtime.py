@@ -54,6 +54,8 @@ SEAM_FOOT_TOLERANCE = 0.1
 ACROSS_SEAM_DUPLICATE_IOU = 0.3
 #: What the runtime does with the people of an unfit frame (module docstring); a covered frame's are always withheld.
 UNFIT_SETTINGS = ("suppress", "flag")
+#: The runtime's setting unless told otherwise: a person who is not there costs more than one it cannot see (0013).
+DEFAULT_UNFIT = "suppress"
 
 
 @dataclass
@@ -256,7 +258,7 @@ class Runtime:
 
     def __init__(self, bundle: Bundle | str | Path, threads: int | None = None,
                  parallel_regions: bool | None = None, public_key: Path | bytes | None = None,
-                 weak_people_above: float | None = None, unfit: str = "suppress"):
+                 weak_people_above: float | None = None, unfit: str = DEFAULT_UNFIT):
         if isinstance(bundle, Bundle) and public_key is not None:
             raise ValueError("a public key checks a bundle as it is loaded: give the bundle's path")
         if unfit not in UNFIT_SETTINGS:

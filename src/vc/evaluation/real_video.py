@@ -33,7 +33,7 @@ import numpy as np
 from tqdm import tqdm
 
 from vc.deploy.frames import FrameRange, FrameSource
-from vc.deploy.runtime import Person, Runtime
+from vc.deploy.runtime import DEFAULT_UNFIT, Person, Runtime
 from vc.deploy.tracking import Tracker, TrackingConfig, tracking_rate
 from vc.errors import InputError
 from vc.evaluation.agreement import AGREEMENT_HEAD_SIZES, REFERENCE_CONFIDENCE, PoseAgreement, pose_agreement
@@ -78,7 +78,7 @@ class EvaluationRequest:
     # walking direction deciding which way they face (vc.deploy.tracking); None: each frame on its own.
     tracking: TrackingConfig | None = TrackingConfig()
     fps: float | None = None  # of a folder of frames (a video's is read from it); without it a folder is not tracked
-    unfit: str = "suppress"  # the people of an unfit frame: withheld or flagged (vc.deploy.runtime.UNFIT_SETTINGS)
+    unfit: str = DEFAULT_UNFIT  # the people of an unfit frame: withheld or flagged (vc.deploy.runtime.UNFIT_SETTINGS)
 
 
 @dataclass
