@@ -70,6 +70,11 @@ def gains(image: np.ndarray, red: float, blue: float) -> np.ndarray:
     return np.clip(image * np.array([red, 1.0, blue], np.float32), 0, 255).astype(np.uint8)
 
 
+def linear_gains(image: np.ndarray, red: float, blue: float) -> np.ndarray:
+    """White balance as a camera gets it wrong: gains on the light, not on the codes."""
+    return SRGB.encode(SRGB.decode(image) * np.array([red, 1.0, blue], np.float32))
+
+
 def monochrome(image: np.ndarray) -> np.ndarray:
     luma = (image @ np.array([0.299, 0.587, 0.114], np.float32)).round().astype(np.uint8)
     return np.repeat(luma[..., None], 3, axis=2)
@@ -464,3 +469,111 @@ def test_real_frames_are_ok_and_their_conditions_read_as_named(request, camera, 
     change, expected = REAL_CONDITIONS[condition]
     states = [reference.fitness(change(frame)).state for frame in frames]
     assert states == [expected] * len(frames)
+
+
+# Compiled over the camera's range: what the bundle saw in training is fit (docs/decisions/0014-camera-range.md).
+
+#: The fit range of a bundle compiled over the default camera range, as vc-export measured it on PETS09.
+COMPILED_RANGE = fit.FitRange(dark_stops=3.19, overexposed_stops=1.25, blurred_sharpness=0.07, colour_cast_stops=0.91,
+                              monochrome=True)
+
+
+@pytest.mark.parametrize(("change", "expected"), [
+    (lambda image: exposed(image, -2), fit.OK), (lambda image: exposed(image, -3), fit.OK),
+    (lambda image: linear_gains(image, 1.25, 0.8), fit.OK), (lambda image: linear_gains(image, 0.8, 1.25), fit.OK),
+    (monochrome, fit.OK), (lambda image: blurred(image, 2), fit.OK),
+    (lambda image: exposed(image, -4), fit.DARK), (lambda image: exposed(image, 2), fit.OVEREXPOSED),
+    (np.zeros_like, fit.COVERED), (lambda image: np.full_like(image, 128), fit.COVERED),
+])
+def test_a_bundle_compiled_over_the_camera_range_takes_its_range_as_fit(background, change, expected):
+    reference = SceneReference.of_background(background, DECODE)
+    assert reference.fitness(change(background), COMPILED_RANGE).state == expected
+
+
+def test_the_fit_range_is_measured_on_the_background_at_the_camera_range_s_ends(background):
+    from vc.model.camera_range import CameraRange, fit_range_of
+
+    reference = SceneReference.of_background(background, DECODE)
+    assert fit_range_of(None, reference, background, SRGB) == fit.FitRange()
+    measured = fit_range_of(CameraRange(), reference, background, SRGB)
+    assert 3.0 <= measured.dark_stops <= 3.5 and measured.overexposed_stops == fit.OVEREXPOSED_STOPS
+    assert measured.colour_cast_stops > fit.COLOUR_CAST_STOPS and measured.monochrome
+    assert measured.blurred_sharpness < fit.BLURRED_SHARPNESS
+    night_less = fit_range_of(CameraRange(night_ir=0.0, blurred=0.0, exposure_stops=(-1.0, 0.5)), reference,
+                              background, SRGB)
+    assert not night_less.monochrome and night_less.blurred_sharpness == fit.BLURRED_SHARPNESS
+    assert night_less.dark_stops == fit.DARK_STOPS  # never tighter than the background's own look
+
+
+def _with_fit_range(bundle: Path, background: np.ndarray, fit_range: object, output: Path) -> Path:
+    manifest, files = _bundle_files(bundle)
+    for region in manifest["regions"]:
+        region["decode"]["centre_threshold"] = 0.001
+    manifest, files = with_reference(manifest, files, SceneReference.of_background(background, DECODE),
+                                     "the test scene's background", COMPILED_RANGE)
+    manifest["reference"]["fit_range"] = fit_range
+    write_bundle(manifest, files, output, as_zip=False)
+    return output
+
+
+def test_a_bundle_carries_its_fit_range_and_runs_frames_within_it(bundle, background, tmp_path):
+    folder = _with_fit_range(bundle, background, COMPILED_RANGE.to_dict(), tmp_path / "bundle")
+    with Runtime(folder, threads=1) as runtime:
+        assert runtime.bundle.fit_range == COMPILED_RANGE
+        result = runtime.run(exposed(background, -3))
+        assert result.fitness.state == fit.OK and not result.suppressed and result.people
+        assert runtime.run(np.zeros_like(background)).suppressed
+
+
+@pytest.mark.parametrize(("value", "message"), [
+    ({"dark_stops": -1}, "dark_stops must be a finite number"), ({"dark_stops": "far"}, "dark_stops"),
+    ({"monochrome": "yes"}, "monochrome must be true or false"), ({"tolerance": 1}, "unknown field"),
+    ([1, 2], "expected a mapping"),
+])
+def test_a_bad_fit_range_is_refused_by_name(bundle, background, tmp_path, value, message):
+    folder = _with_fit_range(bundle, background, value, tmp_path / "bundle")
+    with pytest.raises(InputError, match=f"reference.fit_range.*{message}"):
+        load_bundle(folder)
+
+
+def test_translated_moves_the_view_back():
+    frame = np.random.default_rng(0).integers(0, 256, (40, 60, 3), dtype=np.uint8)
+    for dx, dy in ((3, 0), (-5, 7), (0, -9), (12, 12)):
+        assert np.array_equal(fit.translated(shifted(frame, dx, dy), (dx, dy))[12:-12, 12:-12], frame[12:-12, 12:-12])
+    assert fit.translated(frame, (0, 0)) is frame
+    with pytest.raises(ValueError, match="leaves nothing"):
+        fit.translated(frame, (60, 0))
+
+
+def test_a_nudged_view_is_registered_and_its_people_reported_where_they_stand(referenced_bundle, background):
+    frame = background.copy()
+    frame[24:40, 60:66] = (40, 50, 60)  # someone standing there
+    with Runtime(referenced_bundle, threads=1) as runtime:
+        still = runtime.run(frame)
+    with Runtime(referenced_bundle, threads=1) as runtime:
+        nudged = runtime.run(shifted(frame, 6, -3))
+        assert nudged.fitness.state == fit.OK and nudged.fitness.registered_px == (6, -3)
+        assert nudged.fitness.to_dict()["registered_px"] == [6, -3] and runtime.registration == (6, -3)
+        assert len(nudged.people) == len(still.people)
+        expected = np.array(sorted((person.box + [6, -3, 6, -3]).tolist() for person in still.people))
+        assert np.allclose(sorted(person.box.tolist() for person in nudged.people), expected, atol=1.0)
+        assert runtime.run(shifted(frame, 6, -3)).fitness.registered_px == (6, -3)  # kept for the next frame
+        assert runtime.run(frame).fitness.registered_px is None and runtime.registration == (0, 0)  # moved back
+
+
+def test_a_view_moved_beyond_the_bound_is_moved(referenced_bundle, background):
+    reference = SceneReference.of_background(background, DECODE)
+    assert reference.register(shifted(background, 5, 2)) == (5, 2)
+    assert reference.register(shifted(background, 5, 2), bound_px=4) is None
+    assert reference.register(np.random.default_rng(3).integers(0, 256, background.shape, dtype=np.uint8)) is None
+    with Runtime(referenced_bundle, threads=1) as runtime:
+        result = runtime.run(shifted(background, 5, 2))
+        assert result.fitness.registered_px == (5, 2)
+
+
+@pytest.mark.parametrize("move", [(3, 0), (12, 0), (-7, 5), (20, -10)])
+def test_pets09_views_moved_within_the_bound_are_registered_to_the_pixel(pets, move):
+    reference, frames = pets
+    for frame in frames[:3]:
+        assert reference.register(shifted(frame, *move)) == move
+    assert reference.register(shifted(frames[0], 30, 0)) is None

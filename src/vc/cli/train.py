@@ -65,6 +65,7 @@ def report_job(job: TrainingJob) -> None:
           f"{job.config.steps} steps of {job.config.batch_size}, on {job.device.type} in "
           f"{'bf16' if job.config.bf16_autocast else 'fp32'}{' channels-last' if job.config.channels_last else ''}, "
           f"{job.workers} data loader(s)")
+    print("\n".join(job.camera_range_plan()))
 
 
 def report_results(results: list[RegionResult], run: Path) -> None:

@@ -15,7 +15,9 @@ field. The format itself is unchanged, and so is its version (docs/decisions/000
 The manifest's ``reference`` (``background``, ``background_sha256``) is optional: a bundle exported without its
 scene, or before scene fitness, loads as before, without a reference, and its frames' fitness is ``unknown``
 (:mod:`vc.deploy.fitness`). One that names a reference is checked like every member, and its content too: a
-reference that does not fit the bundle's frames is refused by name.
+reference that does not fit the bundle's frames is refused by name. Its optional ``fit_range`` is how far frames may
+depart from the background and still be fit, what the networks were compiled to see
+(:class:`~vc.deploy.fitness.FitRange`; absent: the background's one look).
 """
 
 from __future__ import annotations
@@ -30,7 +32,7 @@ from pathlib import Path, PurePosixPath, PureWindowsPath
 import numpy as np
 
 from vc.deploy.decode import DecodeConfig, RetiredSetting, stored_decode_fields
-from vc.deploy.fitness import SceneReference
+from vc.deploy.fitness import BACKGROUND_ONLY, FitRange, SceneReference
 from vc.deploy.heatmaps import ANATOMICAL_CHANNELS, LAYOUTS
 from vc.deploy.signing import SIGNATURE, verify_manifest
 from vc.errors import InputError
@@ -70,6 +72,7 @@ class Bundle:
     manifest: dict
     regions: list[RegionEntry]
     reference: SceneReference | None = None  # the scene's background for scene fitness; None: not carried
+    fit_range: FitRange = BACKGROUND_ONLY  # how far a fit frame may depart from it (the module docstring)
 
     @property
     def frame_size(self) -> tuple[int, int]:
@@ -191,7 +194,18 @@ def load_bundle(path: str | Path, public_key: Path | bytes | None = None) -> Bun
             precision=str(entry.get("precision", "fp32"))))  # bundles before precisions were all fp32
     if not regions:
         raise InputError(path, f"{MANIFEST}: regions", "the bundle has no regions")
-    return Bundle(path, manifest, regions, _reference(files, manifest, path))
+    return Bundle(path, manifest, regions, _reference(files, manifest, path), _fit_range(manifest, path))
+
+
+def _fit_range(manifest: dict, path: Path) -> FitRange:
+    """The reference's fit range, checked; the background's one look when the manifest gives none."""
+    entry = manifest.get(REFERENCE)
+    if not isinstance(entry, dict) or "fit_range" not in entry:
+        return BACKGROUND_ONLY
+    try:
+        return FitRange.from_dict(entry["fit_range"])
+    except (TypeError, ValueError) as error:
+        raise InputError(path, f"{MANIFEST}: {REFERENCE}.fit_range", str(error)) from None
 
 
 def _reference(files: _Files, manifest: dict, path: Path) -> SceneReference | None:

@@ -44,7 +44,8 @@ the runtime measures it while the networks run (docs/decisions/0013-scene-fitnes
    correlation (numpy FFT, Hann window, the peak refined by a parabola per axis), in frame pixels. Beyond
    :data:`MOVED_PX`, when the correlation peak is clear (at least :data:`MOVED_PEAK`): an unrelated frame's peak is
    anywhere and says nothing. The coarse cells read shifts under a cell short (3 px as 1.5-2.3 on PETS09's 8 px
-   cells): the bound is on the measured shift. The view is not registered nor compensated here (issue 62, 2c).
+   cells): the bound is on the measured shift. :meth:`SceneReference.register` measures a move to the whole pixel
+   (up to :data:`REGISTRATION_BOUND_PX`), for the runtime to compensate; a frame it has moved back reads ``ok``.
 5. ``changed`` — agreement: fewer than :data:`CHANGED_AGREEMENT` of the cells match the background: their light is
    within :data:`MATCH_STOPS` of the frame's gain (step 2) and, between bright unclipped neighbours, their ratio to
    the background changes by at most :data:`STRUCTURE_STOPS` from cell to cell (the background's structure, whatever
@@ -54,6 +55,8 @@ the runtime measures it while the networks run (docs/decisions/0013-scene-fitnes
    variation is left (a monochrome night mode), or a cast of more than :data:`COLOUR_CAST_STOPS` (white balance):
    the median of each cell's log chromaticity (R/G, B/G in linear light) minus the background's.
 
+The bounds of steps 2, 3 and 5's colour are the bundle's :class:`FitRange`: the constants below for a bundle compiled
+for the background's one look, wider for one compiled over the camera's range (a monochrome frame is then fit too).
 Otherwise ``ok``. A bundle without a reference gives ``unknown``, with the reason. Every number is finite whatever
 the frame (black, white, one bright pixel): divisions have floors and empty selections fall back.
 """
@@ -113,6 +116,19 @@ BLURRED_SHARPNESS = 0.5
 #: Moved beyond this many frame pixels, as measured: real frames read within 0.58 px; a view moved 3 px reads 1.5 px
 #: or more (coarse cells read small shifts short); a PETS09 bundle invents people from 2 px (docs/decisions/0013).
 MOVED_PX = 1.5
+#: A moved view is registered against the background and compensated up to this many frame pixels (the runtime moves
+#: the frame back, which moves the region map with the view); beyond it the frame is ``moved``. A bracket settling or
+#: a camera knocked moves the view a few pixels to a few tens; more is another view, whose perspective the bundle's
+#: regions no longer fit.
+REGISTRATION_BOUND_PX = 24
+#: Rounds of registration (:meth:`SceneReference.register`): the coarse cells read a shift short, so the frame is
+#: moved back by what they read and measured again; three rounds bring 24 px to within a pixel, a last search of the
+#: neighbouring whole pixels settles it.
+REGISTRATION_ROUNDS = 4
+#: A registration holds when the view moved back correlates with the background's coarse luminance at least this
+#: much: real frames 0.92-0.96 (PETS09) and 0.75-0.90 (TUD-Stadtmitte's crowds), noise 0.00, another camera's view
+#: -0.33.
+REGISTERED_CORRELATION = 0.5
 #: The phase correlation's peak must reach this for a shift to count: real frames 0.33 and more, noise and another
 #: camera's view 0.10 at most.
 MOVED_PEAK = 0.15
@@ -192,6 +208,20 @@ def _clipped(cells: np.ndarray) -> np.ndarray:
     return np.maximum(np.maximum(cells[..., 0], cells[..., 1]), cells[..., 2]) >= CLIPPED_CODE
 
 
+def translated(frame: np.ndarray, shift: tuple[int, int]) -> np.ndarray:
+    """``frame`` with its content moved back by ``shift`` (x, y) whole pixels: ``result[y, x] = frame[y + dy, x +
+    dx]``, the edge's pixels repeated where the frame has none (what a view moved by ``shift`` showed where the
+    background has it)."""
+    dx, dy = int(shift[0]), int(shift[1])
+    if dx == 0 and dy == 0:
+        return frame
+    height, width = frame.shape[:2]
+    if abs(dx) >= width or abs(dy) >= height:
+        raise ValueError(f"a shift of {shift} leaves nothing of a {width}x{height} frame")
+    kept = frame[max(dy, 0):height + min(dy, 0), max(dx, 0):width + min(dx, 0)]
+    return np.pad(kept, ((max(-dy, 0), max(dy, 0)), (max(-dx, 0), max(dx, 0)), (0, 0)), mode="edge")
+
+
 def _coarse_energy(luma: np.ndarray) -> float:
     across, down = np.diff(luma, axis=1), np.diff(luma, axis=0)
     return float((np.mean(across ** 2) if across.size else 0.0) + (np.mean(down ** 2) if down.size else 0.0))
@@ -218,6 +248,46 @@ def _parabola_offset(before: float, peak: float, after: float) -> float:
 
 
 @dataclass(frozen=True)
+class FitRange:
+    """How far a frame may depart from the background and still be fit: what the bundle's networks were compiled to
+    see. The defaults are a bundle compiled for the background's one look (docs/decisions/0013-scene-fitness.md); a
+    bundle compiled over a camera range (:mod:`vc.model.camera_range`) carries its own, measured at export on the
+    background rendered at the range's ends (docs/decisions/0014-camera-range.md)."""
+
+    dark_stops: float = DARK_STOPS
+    overexposed_stops: float = OVEREXPOSED_STOPS
+    blurred_sharpness: float = BLURRED_SHARPNESS
+    colour_cast_stops: float = COLOUR_CAST_STOPS
+    monochrome: bool = False  # a monochrome frame (an IR night mode) is fit
+
+    def __post_init__(self) -> None:
+        for name in ("dark_stops", "overexposed_stops", "blurred_sharpness", "colour_cast_stops"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value) \
+                    or value < 0:
+                raise ValueError(f"{name} must be a finite number, not negative (got {value!r})")
+        if not isinstance(self.monochrome, bool):
+            raise ValueError(f"monochrome must be true or false (got {self.monochrome!r})")
+
+    @classmethod
+    def from_dict(cls, data: object) -> FitRange:
+        """The range a bundle's manifest stores (:meth:`to_dict`); a ValueError names what is wrong."""
+        if not isinstance(data, dict):
+            raise ValueError(f"expected a mapping, got {type(data).__name__}")
+        unknown = sorted(set(data) - set(cls.__dataclass_fields__))
+        if unknown:
+            raise ValueError(f"unknown field(s) {', '.join(unknown)}")
+        return cls(**data)
+
+    def to_dict(self) -> dict:
+        return {name: getattr(self, name) for name in self.__dataclass_fields__}
+
+
+#: The range of a bundle that carries none: its background's one look.
+BACKGROUND_ONLY = FitRange()
+
+
+@dataclass(frozen=True)
 class FrameFitness:
     """A frame's state (:data:`STATES`) and the numbers that decided it (None where not measured: every number of
     an ``unknown`` frame, the colour numbers of a grey background)."""
@@ -233,6 +303,7 @@ class FrameFitness:
     shift_peak: float | None = None  # the phase correlation's peak (1: the same picture)
     colour_left: float | None = None  # colour variation / the background's (None for a grey background)
     colour_cast_stops: float | None = None  # chromaticity offset from the background
+    registered_px: tuple[int, int] | None = None  # (x, y): the view's move the runtime compensated (None: none)
 
     @property
     def unfit(self) -> bool:
@@ -254,6 +325,8 @@ class FrameFitness:
                 result[name] = round(float(value), 3)
         if self.shift_px is not None:
             result["shift_px"] = [round(float(value), 2) for value in self.shift_px]
+        if self.registered_px is not None:
+            result["registered_px"] = [int(value) for value in self.registered_px]
         return result
 
 
@@ -353,8 +426,9 @@ class SceneReference:
             colour_centre=centre, colour_variation=variation,
             clipped=_clipped(self.cells), fine_rows=np.maximum(self.fine_rows, MIN_FINE_ENERGY))
 
-    def fitness(self, frame: np.ndarray) -> FrameFitness:
-        """The fitness of an (H, W, 3) uint8 RGB frame of the bundle's camera (module docstring)."""
+    def fitness(self, frame: np.ndarray, fit_range: FitRange = BACKGROUND_ONLY) -> FrameFitness:
+        """The fitness of an (H, W, 3) uint8 RGB frame of the bundle's camera (module docstring), within
+        ``fit_range`` (what the bundle was compiled to see)."""
         reference = self.derived
         cells = cell_means(frame, self.cell_px)
         luma, linear = cells @ LUMA, self._linear(cells)
@@ -378,7 +452,8 @@ class SceneReference:
 
         colour_left, cast = self._colour(linear, matching_cells & unclipped)
 
-        state, reason = self._decide(spread, coherence, exposure, sharpness, shift, peak, matching, colour_left, cast)
+        state, reason = self._decide(fit_range, spread, coherence, exposure, sharpness, shift, peak, matching,
+                                     colour_left, cast)
         return FrameFitness(state, reason, spread, coherence, exposure, matching, sharpness, shift, peak, colour_left,
                             cast)
 
@@ -410,6 +485,36 @@ class SceneReference:
         y, x = (y - height if y > height / 2 else y), (x - width if x > width / 2 else x)  # wrapped: negative shifts
         return (float(x * self.cell_px), float(y * self.cell_px)), max(peak, 0.0)
 
+    def register(self, frame: np.ndarray, bound_px: float = REGISTRATION_BOUND_PX) -> tuple[int, int] | None:
+        """How far, in whole frame pixels (x, y), the view of ``frame`` moved from the background's; None when the
+        correlation says nothing (an unrelated picture: the phase correlation's peak under :data:`MOVED_PEAK`, or
+        the view moved back correlating under :data:`REGISTERED_CORRELATION`) or the move is beyond ``bound_px``.
+        The frame is moved back by what the coarse cells read and read again (:data:`REGISTRATION_ROUNDS`), then
+        the neighbouring whole pixels are compared by the correlation of their cells' luminance with the
+        background's."""
+        shift = np.zeros(2, np.int64)
+        for _ in range(REGISTRATION_ROUNDS):
+            (x, y), peak = self._shift(cell_means(translated(frame, tuple(shift)), self.cell_px) @ LUMA)
+            if peak < MOVED_PEAK:
+                return None
+            step = np.array([round(x), round(y)], np.int64)
+            if not step.any():
+                break
+            shift += step
+            if math.hypot(*shift) > bound_px + self.cell_px:
+                return None
+        candidates = [(int(shift[0] + dx), int(shift[1] + dy)) for dy in (-1, 0, 1) for dx in (-1, 0, 1)]
+        scored = [(self._luma_correlation(translated(frame, candidate)), candidate) for candidate in candidates]
+        correlation, best = max(scored)
+        return best if math.hypot(*best) <= bound_px and correlation >= REGISTERED_CORRELATION else None
+
+    def _luma_correlation(self, frame: np.ndarray) -> float:
+        luma = cell_means(frame, self.cell_px) @ LUMA
+        reference = self.derived["luma"]
+        frame_centred, reference_centred = luma - luma.mean(), reference - reference.mean()
+        scale = float(np.sqrt((frame_centred ** 2).sum() * (reference_centred ** 2).sum()))
+        return float((frame_centred * reference_centred).sum()) / scale if scale > 0 else 0.0
+
     def _colour(self, linear: np.ndarray, matching: np.ndarray) -> tuple[float | None, float | None]:
         """Colour left (None for a grey background) and cast, on the matching cells bright enough to have colour, of
         every other row and column of cells (PETS09: 1 700 cells, plenty for a median, at a quarter of the cost)."""
@@ -427,28 +532,32 @@ class SceneReference:
         return variation / reference["colour_variation"], cast
 
     @staticmethod
-    def _decide(spread: float, coherence: float, exposure: float, sharpness: float, shift: tuple[float, float],
-                peak: float, matching: float, colour_left: float | None, cast: float | None) -> tuple[str, str]:
+    def _decide(fit: FitRange, spread: float, coherence: float, exposure: float, sharpness: float,
+                shift: tuple[float, float], peak: float, matching: float, colour_left: float | None,
+                cast: float | None) -> tuple[str, str]:
         if spread < COVERED_SPREAD:
             return COVERED, f"no scene: {spread:.2f} of the background's contrast (covered below {COVERED_SPREAD})"
         if coherence < COVERED_COHERENCE:
             return COVERED, (f"no scene: neighbouring cells correlate {coherence:.2f} (noise; covered below "
                              f"{COVERED_COHERENCE})")
-        if exposure < -DARK_STOPS:
-            return DARK, f"{exposure:+.1f} stops against the background (dark below {-DARK_STOPS:+g})"
-        if exposure > OVEREXPOSED_STOPS:
+        if exposure < -fit.dark_stops:
+            return DARK, f"{exposure:+.1f} stops against the background (dark below {-fit.dark_stops:+.2f})"
+        if exposure > fit.overexposed_stops:
             return OVEREXPOSED, f"{exposure:+.1f} stops against the background (overexposed above " \
-                                f"{OVEREXPOSED_STOPS:+g})"
-        if sharpness < BLURRED_SHARPNESS:
-            return BLURRED, f"{sharpness:.2f} of the background's fine detail (blurred below {BLURRED_SHARPNESS})"
+                                f"{fit.overexposed_stops:+.2f})"
+        if sharpness < fit.blurred_sharpness:
+            return BLURRED, f"{sharpness:.2f} of the background's fine detail (blurred below " \
+                            f"{fit.blurred_sharpness:.2f})"
         distance = math.hypot(*shift)
         if distance > MOVED_PX and peak >= MOVED_PEAK:
             return MOVED, f"moved {distance:.1f} px from the background (bound {MOVED_PX:g} px)"
         if matching < CHANGED_AGREEMENT:
             return CHANGED, f"{matching:.2f} of the view matches the background (changed below {CHANGED_AGREEMENT})"
-        if colour_left is not None and colour_left < COLOUR_LEFT:
+        if colour_left is not None and colour_left < COLOUR_LEFT and not fit.monochrome:
             return CHANGED, f"{colour_left:.2f} of the background's colour left (monochrome; changed below " \
                             f"{COLOUR_LEFT})"
-        if cast is not None and cast > COLOUR_CAST_STOPS:
-            return CHANGED, f"colour cast {cast:.2f} stops (white balance; changed above {COLOUR_CAST_STOPS})"
+        if cast is not None and cast > fit.colour_cast_stops and not (fit.monochrome and colour_left is not None
+                                                                        and colour_left < COLOUR_LEFT):
+            return CHANGED, f"colour cast {cast:.2f} stops (white balance; changed above " \
+                            f"{fit.colour_cast_stops:.2f})"
         return OK, ""

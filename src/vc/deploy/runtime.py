@@ -17,15 +17,21 @@ a lost signal's noise) never yields people. On a frame in any other unfit state 
 ``flag`` keeps them, each marked with the frame's state (``Person.unfit``). The default suppresses because on those
 frames a bundle's people are mostly invented (issue 62: a frame of 3 people read as 7 to 89 under the camera-life
 conditions) and a person who is not there costs an appliance more than one it says it cannot see
-(docs/decisions/0013-scene-fitness.md). :meth:`Runtime.run` returns the people with the fitness;
-``runtime(frame)`` returns the people alone, as before, and keeps the fitness in ``runtime.last_fitness``.
+(docs/decisions/0013-scene-fitness.md). How far a frame may depart from the background and stay fit is what the
+bundle was compiled to see (its :class:`~vc.deploy.fitness.FitRange`: a bundle compiled over the camera's range
+takes dusk, white-balance drift, night IR and a wet lens as fit, docs/decisions/0014-camera-range.md). A view that
+moved (a bracket settling, a knocked camera) is registered against the background up to
+:data:`~vc.deploy.fitness.REGISTRATION_BOUND_PX` and compensated: each frame is moved back by the registration before
+the networks (the region map moves with the view) and the people moved forward again; the registration is kept from
+frame to frame and measured again when the fitness reads a move. :meth:`Runtime.run` returns the people with the
+fitness; ``runtime(frame)`` returns the people alone, as before, and keeps the fitness in ``runtime.last_fitness``.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from concurrent.futures import ThreadPoolExecutor, wait
-from dataclasses import dataclass
+from concurrent.futures import Future, ThreadPoolExecutor, wait
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -36,7 +42,7 @@ from vc.deploy.areas import ImageArea
 from vc.deploy.boxes import box_iou, foot_points
 from vc.deploy.bundle import NO_REFERENCE, Bundle, RegionEntry, load_bundle
 from vc.deploy.decode import UPRIGHT_PRIOR, DecodeConfig, DecodedPerson, UprightPrior, decode
-from vc.deploy.fitness import COVERED, STATES, UNFIT_STATES, FrameFitness
+from vc.deploy.fitness import COVERED, MOVED, STATES, UNFIT_STATES, FrameFitness, translated
 from vc.errors import InputError
 
 #: Two people of different regions overlapping more than this are one person seen by both (module docstring); lower,
@@ -86,7 +92,9 @@ class Person:
         width, height = frame_size
         full = np.zeros((height, width), bool)
         x, y = self.mask_origin
-        full[y:y + self.mask.shape[0], x:x + self.mask.shape[1]] = self.mask
+        top, left = max(-y, 0), max(-x, 0)  # a person found on a moved-back frame may reach past its edge
+        part = self.mask[top:max(height - y, 0), left:max(width - x, 0)]
+        full[y + top:y + top + part.shape[0], x + left:x + left + part.shape[1]] = part
         return full
 
     def to_dict(self) -> dict:
@@ -266,6 +274,9 @@ class Runtime:
         self.unfit = unfit
         #: The fitness of the last frame ``runtime(frame)`` or :meth:`run` saw (None before the first).
         self.last_fitness: FrameFitness | None = None
+        #: How far (x, y, whole frame pixels) the view has moved from the background's, compensated on every frame
+        #: until the fitness reads another move (module docstring).
+        self.registration: tuple[int, int] = (0, 0)
         self.bundle = bundle if isinstance(bundle, Bundle) else load_bundle(bundle, public_key)
         cores = usable_cores()
         if parallel_regions is None:
@@ -302,7 +313,7 @@ class Runtime:
         """The frame's scene fitness against the bundle's background (``unknown`` without one)."""
         if self.bundle.reference is None:
             return FrameFitness.unknown(NO_REFERENCE)
-        return self.bundle.reference.fitness(frame)
+        return self.bundle.reference.fitness(frame, self.bundle.fit_range)
 
     def run(self, frame: np.ndarray) -> FrameResult:
         """The people in an (H, W, 3) uint8 RGB frame and the frame's scene fitness (module docstring). With the
@@ -311,22 +322,41 @@ class Runtime:
         if not self.runners:
             raise RuntimeError("this runtime was closed")
         self.check_frame(frame)
-        pending = ([self.pool.submit(runner.people, frame) for runner in self.runners]
-                   if self.pool is not None else None)
-        fitness = self.fitness(frame)
+        seen = translated(frame, self.registration)
+        pending = self._start(seen)
+        fitness = self.fitness(seen)
+        if fitness.state == MOVED and self.bundle.reference is not None:
+            registration = self.bundle.reference.register(frame)
+            if registration is not None:  # within the bound: the view is moved back and measured again
+                self._cancel(pending)
+                self.registration = registration
+                seen = translated(frame, registration)
+                pending = self._start(seen)
+                fitness = self.fitness(seen)
+        if self.registration != (0, 0):
+            fitness = replace(fitness, registered_px=self.registration)
         self.last_fitness = fitness
         if fitness.state == COVERED or (fitness.unfit and self.unfit == "suppress"):
-            if pending is not None:
-                for future in pending:
-                    future.cancel()
-                wait(pending)
+            self._cancel(pending)
             return FrameResult([], fitness, suppressed=True)
-        per_region = ([runner.people(frame) for runner in self.runners] if pending is None
+        per_region = ([runner.people(seen) for runner in self.runners] if pending is None
                       else [future.result() for future in pending])
-        result = FrameResult(without_seam_duplicates(sorted((person for people in per_region for person in people),
-                                                            key=lambda person: -person.score)), fitness)
+        people = sorted((person for found in per_region for person in found), key=lambda person: -person.score)
+        result = FrameResult([moved_by(person, self.registration) for person in without_seam_duplicates(people)],
+                             fitness)
         result.reported(result.people)  # flagged when unfit
         return result
+
+    def _start(self, frame: np.ndarray) -> list[Future] | None:
+        """The regions' networks started on ``frame`` in the pool (None without one: they run when needed)."""
+        return [self.pool.submit(runner.people, frame) for runner in self.runners] if self.pool is not None else None
+
+    @staticmethod
+    def _cancel(pending: list[Future] | None) -> None:
+        if pending is not None:
+            for future in pending:
+                future.cancel()
+            wait(pending)
 
     def fitness_summary(self, states: Mapping[str, int]) -> dict:
         """A run's scene fitness for its summary: frames per state (``states``, counted from each frame's
@@ -339,6 +369,17 @@ class Runtime:
     def __call__(self, frame: np.ndarray) -> list[Person]:
         """The people in an (H, W, 3) uint8 RGB frame (:meth:`run`'s, without the fitness: ``last_fitness``)."""
         return self.run(frame).people
+
+
+def moved_by(person: Person, shift: tuple[int, int]) -> Person:
+    """``person``, found on a frame moved back by ``shift`` (x, y) pixels, in the frame's own pixels (the same
+    object, changed)."""
+    dx, dy = shift
+    if dx or dy:
+        person.box = person.box + np.array([dx, dy, dx, dy], person.box.dtype)
+        person.keypoints = person.keypoints + np.array([dx, dy, 0], person.keypoints.dtype)
+        person.mask_origin = (person.mask_origin[0] + dx, person.mask_origin[1] + dy)
+    return person
 
 
 def without_seam_duplicates(people: list[Person], iou: float = SEAM_DUPLICATE_IOU) -> list[Person]:

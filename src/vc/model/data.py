@@ -1,10 +1,10 @@
 """The training stream: one region's samples (read by :func:`vc.render.dataset.open_region`) cut into windows,
 jittered and encoded as targets, as torch tensors.
 
-Training draws windows of the region input (:class:`CropPolicy`); augmentation only adds what the renderer
-cannot vary yet (docs/design.md): exposure and contrast (until photometric calibration estimates them) and sensor
-noise (not simulated). Geometry is never augmented: a flipped or rescaled sample would no longer be the scene's
-own perspective.
+Training draws windows of the region input (:class:`CropPolicy`); each window's composite is varied over the
+camera's life (:mod:`vc.model.camera_range`: exposure, white balance, night IR, gain noise, blur, compression), then
+jittered slightly (:class:`Augmentation`). Geometry is never augmented: a flipped or rescaled sample would no
+longer be the scene's own perspective.
 """
 
 from __future__ import annotations
@@ -15,13 +15,14 @@ import numpy as np
 import torch
 from torch.utils.data import Dataset
 
+from vc.model.camera_range import CameraLife
 from vc.model.codec import CodecConfig, encode
 from vc.render.dataset import Sample, read_sample
 
 
 @dataclass(frozen=True)
 class Augmentation:
-    """Photometric jitter for what the renderer does not vary (see the module docstring)."""
+    """A slight photometric jitter of every window, after the camera range (see the module docstring)."""
 
     #: Read strictly when pydantic validates a stored training config (:func:`vc.model.trainer.read_train_config`).
     __pydantic_config__ = {"extra": "forbid"}
@@ -89,6 +90,8 @@ class TrainingStream(Dataset):
     """Training items indexed by draw number: draw ``k`` is sample ``permutation(epoch)[k % n]`` of epoch
     ``k // n``, cropped and jittered by a generator seeded with (seed, k).
 
+    ``camera_life`` varies the windows over the camera's range (None: they keep the scene's look).
+
     Every item is a pure function of (seed, k), so a run resumed at step s (draws from s * batch size) sees the
     same data as one that never stopped, and data-loader workers cannot change the result. Decoded samples are
     kept in memory up to ``cache_bytes`` (PNG decoding costs more than the rest of an item; a run sees each
@@ -97,11 +100,11 @@ class TrainingStream(Dataset):
 
     def __init__(self, samples: list[Sample], codec: CodecConfig, input_size: tuple[int, int],
                  crop: CropPolicy | None = CropPolicy(), augmentation: Augmentation | None = Augmentation(),
-                 seed: int = 0, cache_bytes: int = 4 << 30) -> None:
+                 seed: int = 0, cache_bytes: int = 4 << 30, camera_life: CameraLife | None = None) -> None:
         if not samples:
             raise ValueError("no training samples")
         self.samples, self.codec, self.input_size = samples, codec, input_size
-        self.crop, self.augmentation, self.seed = crop, augmentation, seed
+        self.crop, self.augmentation, self.seed, self.camera_life = crop, augmentation, seed, camera_life
         self.cache_bytes, self._cache, self._cached_bytes = cache_bytes, {}, 0
         self._permutation: tuple[int, np.ndarray] | None = None  # (epoch, its sample order): drawn once an epoch
 
@@ -133,6 +136,8 @@ class TrainingStream(Dataset):
             image, instances = image[y0:y0 + height, x0:x0 + width], instances[y0:y0 + height, x0:x0 + width]
             annotations = [shifted(annotation, -x0, -y0) for annotation in annotations]
         targets = encode(annotations, instances, self.codec)
+        if self.camera_life is not None:
+            image = self.camera_life.apply(np.ascontiguousarray(image), rng)
         image = image.astype(np.float32) / 255.0
         if self.augmentation is not None:
             image = self.augmentation.apply(image, rng)

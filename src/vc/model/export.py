@@ -31,12 +31,13 @@ from torch import Tensor, nn
 
 from vc.calibration.camera import camera_from_dict
 from vc.deploy.bundle import BUNDLE_FORMAT, BUNDLE_FORMAT_VERSION, MANIFEST, MODELS, REFERENCE, REFERENCE_MEMBER, sha256
-from vc.deploy.fitness import SceneReference
+from vc.deploy.fitness import FitRange, SceneReference
 from vc.deploy.heatmaps import channel_names
 from vc.deploy.signing import SIGNATURE, sign_manifest
 from vc.errors import InputError
 from vc.io import atomic_directory, atomic_path, read_image
 from vc.keypoints import COCO_KEYPOINTS, COCO_SKELETON_1BASED
+from vc.model.camera_range import fit_range_of
 from vc.model.codec import expected_height_map
 from vc.model.network import ScenePoseNet
 from vc.model.precision import choose_precision
@@ -138,13 +139,15 @@ def scene_reference(scene: Scene) -> SceneReference:
 
 
 def with_reference(manifest: dict, files: dict[str, bytes], reference: SceneReference,
-                   made_from: str) -> tuple[dict, dict[str, bytes]]:
+                   made_from: str, fit_range: FitRange | None = None) -> tuple[dict, dict[str, bytes]]:
     """The bundle ``manifest`` and ``files`` with ``reference`` added as :data:`~vc.deploy.bundle.REFERENCE_MEMBER`
-    (``made_from`` says from what, for people reading the manifest)."""
+    (``made_from`` says from what, for people reading the manifest), and how far a fit frame may depart from it
+    (``fit_range``; None: the background's one look)."""
     data = reference.to_bytes()
     height, width = reference.cells.shape[:2]
     entry = {"background": REFERENCE_MEMBER, "background_sha256": sha256(data), "made_from": made_from,
-             "cells": [width, height], "cell_px": reference.cell_px}
+             "cells": [width, height], "cell_px": reference.cell_px,
+             **({} if fit_range is None else {"fit_range": fit_range.to_dict()})}
     return {**manifest, REFERENCE: entry}, {**files, REFERENCE_MEMBER: data}
 
 
@@ -210,8 +213,11 @@ def bundle_files(run: Path, precision: str = "fp32", eval_samples: int = 200, ca
         "regions": regions, "versions": package_versions(),
     }
     if scene is not None:
-        manifest, files = with_reference(manifest, files, scene_reference(scene),
-                                         f"{scene.image_path.name}, the background of scene {scene.name!r}")
+        reference, background = scene_reference(scene), read_image(scene.image_path)
+        fit_range = fit_range_of(first_config.camera_range, reference, background, scene.camera_response().response)
+        manifest, files = with_reference(manifest, files, reference,
+                                         f"{scene.image_path.name}, the background of scene {scene.name!r}",
+                                         fit_range)
     return manifest, files
 
 

@@ -34,6 +34,7 @@ from vc.deploy.heatmaps import FINE_CHANNELS, HEATMAP_CHANNELS, OFFSET_CHANNELS
 from vc.errors import InputError, StageError
 from vc.evaluation.plots import plot_precision_recall, plot_training_curve
 from vc.io import atomic_path
+from vc.model.camera_range import CameraRange, camera_life_of
 from vc.model.codec import CodecConfig, expected_height_map
 from vc.model.config import DEFAULT_ARCH, NetworkConfig, network_config, stored_network_fields
 from vc.model.data import Augmentation, CropPolicy, TrainingStream
@@ -64,6 +65,9 @@ class TrainConfig:
     loss: LossWeights = LossWeights()
     crop: CropPolicy = CropPolicy()
     augmentation: Augmentation = Augmentation()
+    #: What the windows vary over beyond the scene's one look (:mod:`vc.model.camera_range`); None: nothing, as
+    #: before it existed. A compile turns it on (``train.camera_range``).
+    camera_range: CameraRange | None = None
     decode: DecodeConfig = DecodeConfig()
     steps: int = 1800  # ~20 minutes per region of the demo scene on 2 cores (fast preset, 256x256 windows)
     batch_size: int = 16
@@ -400,8 +404,10 @@ class RegionTrainer:
             temporary.write_bytes(buffer.getbuffer())
 
     def _loader(self, last: int) -> DataLoader:
+        life = None if self.config.camera_range is None else camera_life_of(self.data.manifest, self.data.region,
+                                                                             self.config.camera_range, self.config.seed)
         stream = TrainingStream(self.data.train, self.config.codec, self.data.input_size, self.config.crop,
-                                self.config.augmentation, self.config.seed)
+                                self.config.augmentation, self.config.seed, camera_life=life)
         batch = self.config.batch_size
         draws = range(self.step * batch, last * batch)
         return DataLoader(stream, batch_size=batch, sampler=draws, num_workers=self.workers,

@@ -21,6 +21,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, ValidationIn
 
 from vc.errors import InputError
 from vc.io import atomic_path
+from vc.model.camera_range import CameraRange
 from vc.model.codec import CodecConfig
 from vc.model.config import DEFAULT_ARCH, network_config
 from vc.model.config import PRESETS as NETWORK_PRESETS
@@ -78,6 +79,9 @@ class TrainSettings(_Section):
                                                  "centre_offsets): people one behind another, 1.5-2 heat-map cells "
                                                  "apart, are learned as two (on in the standard and full "
                                                  "budgets)")
+    camera_range: CameraRange | None = Field(CameraRange(), description="what every window varies over besides the "
+                                             "scene's one look: exposure, white balance, night IR, gain noise, "
+                                             "blur, compression (vc.model.camera_range; null: nothing)")
     centre_offset_weight: float = Field(LossWeights.centre_offsets, gt=0.0,
                                         description="the centre offsets' share of the loss (with centre_offsets): "
                                                     "lower leaves more of the network to the keypoint maps")
@@ -112,7 +116,8 @@ class TrainSettings(_Section):
                                       fine_centre=self.fine_centre)
             centre["loss"] = replace(centre.get("loss", LossWeights()), centre_offsets=self.centre_offset_weight)
         return TrainConfig(network=network, steps=self.steps, batch_size=self.batch_size, seed=self.seed,
-                           bf16_autocast=bf16, channels_last=channels_last, **centre)
+                           bf16_autocast=bf16, channels_last=channels_last, camera_range=self.camera_range,
+                           **centre)
 
 
 class ExportSettings(_Section):

@@ -12,6 +12,7 @@ import torch
 from vc.errors import InputError
 from vc.evaluation.plots import plot_precision_recall
 from vc.io import write_json
+from vc.model.camera_range import plan_lines
 from vc.model.trainer import RegionResult, TrainConfig, data_workers, select_device
 from vc.render.dataset import read_manifest
 from vc.stages.config import TrainSettings
@@ -46,6 +47,13 @@ class TrainingJob:
         plot_precision_recall({r.region: r.evaluation.evaluation for r in results}, run / "precision_recall.png",
                               f"{manifest['scene']}: held-out synthetic")
         return results
+
+
+    def camera_range_plan(self) -> list[str]:
+        """What the windows vary over, each variation's reason, and its cost (:func:`plan_lines`)."""
+        manifest = read_manifest(self.dataset)
+        regions = {name: manifest["regions"][name] for name in self.regions}
+        return plan_lines(manifest, regions, self.config.camera_range)
 
 
 def prepare_training(dataset: Path, settings: TrainSettings, region_names: list[str] | None = None) -> TrainingJob:
