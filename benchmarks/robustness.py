@@ -24,16 +24,16 @@ where the condition moves it (a nudged camera). The conditions:
 Random conditions are seeded per condition and frame (:func:`condition_seed`): a rerun changes the frames to the
 same bytes.
 
-Measured per condition: AP50 of each detector (:func:`vc.evaluation.metrics.evaluate`); per family, mPC (the mean
+Measured per condition: AP50 of each detector (:func:`vc.evaluation.metrics.evaluate`) and the scene fitness states the
+bundle's runtime gave the frames (:mod:`vc.deploy.fitness`: what it withheld, flagged or ran); per family, mPC (the mean
 AP50 over its conditions: for COCO-C over corruptions and severities) and rPC (mPC / clean AP50); and with
 ``--background`` (the scene's empty background, e.g. ``background.png`` of the compile), the people each detector
-reports on it under every condition (truth: nobody), counted for the bundle at its operating point — the score
-threshold of best F1 on this run's clean frames, as ``vc-eval`` defines it
-(:func:`vc.evaluation.misses.operating_point`) — and as it reports them (every person above the bundle's own centre
-threshold: what ``vc-run`` writes), and for the external model at score >= :data:`EXTERNAL_SCORE` (Ultralytics'
-default confidence). Writes ``robustness.json``, ``robustness.md`` and ``robustness.png`` to ``--out``
-(``benchmarks/results/robustness/``), naming the machine, the bundle, the frames and the command.
-"""
+reports on it under every condition (truth: nobody), counted for the bundle at its operating point — the score threshold
+of best F1 on this run's clean frames, as ``vc-eval`` defines it (:func:`vc.evaluation.misses.operating_point`) — and as
+it reports them (every person above the bundle's own centre threshold: what ``vc-run`` writes), and for the external
+model at score >= :data:`EXTERNAL_SCORE` (Ultralytics' default confidence). Writes ``robustness.json``,
+``robustness.md`` and ``robustness.png`` to ``--out`` (``benchmarks/results/robustness/``), naming the machine, the
+bundle, the frames and the command. """
 
 from __future__ import annotations
 
@@ -43,6 +43,7 @@ import inspect
 import shlex
 import time
 import zlib
+from collections import Counter
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from importlib import metadata
@@ -271,10 +272,21 @@ def _images(truth: np.ndarray, ignore: np.ndarray, detections: Detections) -> Im
                        scores=np.asarray(detections.scores, np.float64).ravel(), truth_ignore=ignore)
 
 
-def _bundle_detections(runtime: Runtime, image: np.ndarray) -> Detections:
-    people = runtime(image)
-    return Detections(np.array([person.box for person in people]).reshape(-1, 4),
-                      np.array([person.score for person in people], np.float64))
+class BundleDetector:
+    """The bundle as an appliance runs it: a frame's people, and the frame's scene fitness state kept for the
+    report (what the runtime made of the condition)."""
+
+    def __init__(self, runtime: Runtime) -> None:
+        self.runtime = runtime
+
+    def __call__(self, image: np.ndarray) -> Detections:
+        people = self.runtime(image)
+        return Detections(np.array([person.box for person in people]).reshape(-1, 4),
+                          np.array([person.score for person in people], np.float64))
+
+    @property
+    def state(self) -> str:
+        return self.runtime.last_fitness.state
 
 
 @dataclass
@@ -285,6 +297,7 @@ class Measurement:
     images: dict[str, list[ImageResult]] = field(default_factory=dict)
     background_scores: dict[str, np.ndarray] = field(default_factory=dict)
     seconds: dict[str, float] = field(default_factory=dict)
+    states: Counter = field(default_factory=Counter)  # the bundle's scene fitness states over the frames
 
 
 def measure(condition: Condition, frames: Sequence[Frame], truth: dict[int, np.ndarray], background: np.ndarray | None,
@@ -303,6 +316,8 @@ def measure(condition: Condition, frames: Sequence[Frame], truth: dict[int, np.n
             started = time.perf_counter()
             found[name] = detector(changed)
             result.seconds[name] += time.perf_counter() - started
+            if isinstance(detector, BundleDetector) and label != "background":
+                result.states[detector.state] += 1
         return found
 
     if not condition.background_only:
@@ -342,6 +357,8 @@ def summarise(measurements: Sequence[Measurement], external: str | None) -> dict
                 AS_REPORTED: int(len(m.background_scores[OURS])),
                 **({f"{external} at score >= {EXTERNAL_SCORE}":
                     int(np.sum(m.background_scores[external] >= EXTERNAL_SCORE))} if external else {})}
+        if m.states:
+            row["fitness_states"] = dict(sorted(m.states.items(), key=lambda item: -item[1]))
         row["seconds"] = {name: round(value, 2) for name, value in m.seconds.items()}
         rows.append(row)
     clean_row = next(row for m, row in zip(measurements, rows, strict=True) if m is clean)
@@ -410,13 +427,14 @@ def markdown(report: dict) -> str:
                      + " | " + " | ".join(_fmt(people.get(key), 2) for key in counts) + " |")
     lines += ["", "## Per condition", "",
               "| condition | family | " + " | ".join(f"AP50 {name}" for name in detectors) + " | "
-              + " | ".join(f"false people: {key}" for key in counts) + " |",
-              "|---|---|" + "---|" * (len(detectors) + len(counts))]
+              + " | ".join(f"false people: {key}" for key in counts) + " | scene fitness of the frames |",
+              "|---|---|" + "---|" * (len(detectors) + len(counts) + 1)]
     for row in report["conditions"]:
         ap, people = row.get("ap50", {}), row.get("false_people", {})
+        states = ", ".join(f"{state} {count}" for state, count in row.get("fitness_states", {}).items()) or "—"
         lines.append(f"| {row['label']} | {row['family']} | "
                      + " | ".join(_fmt(ap.get(name)) for name in detectors) + " | "
-                     + " | ".join(str(people.get(key, "—")) for key in counts) + " |")
+                     + " | ".join(str(people.get(key, "—")) for key in counts) + f" | {states} |")
     lines += ["", "![AP50 and false people per condition](robustness.png)", ""]
     return "\n".join(lines)
 
@@ -602,7 +620,7 @@ def run(args: RobustnessRequest) -> dict:
         if args.threads:
             cv2.setNumThreads(args.threads)
         detectors: dict[str, Callable[[np.ndarray], Detections]] = {
-            OURS: functools.partial(_bundle_detections, runtime)}
+            OURS: BundleDetector(runtime)}
         external = None
         if args.external is not None:
             model = YoloPoseOnnx(args.external, args.external_size, args.threads)

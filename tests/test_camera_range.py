@@ -120,7 +120,7 @@ def test_a_compile_varies_the_camera_and_can_be_told_not_to():
 def test_the_plan_says_each_variation_and_its_cost():
     manifest = {"response": {"name": "srgb"}, "camera_measurements": {"frame_noise": {"model": {"shot": 2e-4,
                                                                                                  "read": 0.0}}}}
-    regions = {"r0": {"input_size": [96, 64], "scale": [0.5, 0.5]}}
+    regions = {"r0": {"input_size": [96, 64], "crop_window": [10, 20, 192, 128]}}
     lines = plan_lines(manifest, regions, CameraRange(night_ir=0.0))
     assert "ms per 96x64 window" in lines[0]
     assert any(line.strip().startswith("off  night IR") for line in lines)

@@ -263,12 +263,12 @@ def time_draw(life: CameraLife, size: tuple[int, int], repeats: int = COST_REPEA
 def camera_life_of(manifest: dict, region: dict, camera_range: CameraRange, seed: int) -> CameraLife:
     """The range acting on one region (its ``region`` entry) of a dataset (its ``manifest``): the camera response
     and the frames' noise model as the render plan measured them (a dataset older than the plan: sRGB, no gain
-    noise), the region's scale."""
+    noise), the region's scale (input over crop window)."""
     response = Response((manifest.get("response") or {}).get("name", "srgb"))
     model = ((manifest.get("camera_measurements") or {}).get("frame_noise") or {}).get("model")
     noise = NoiseModel(**model) if model else NoiseModel(0.0, 0.0)
-    scale_x, scale_y = region["scale"]
-    return CameraLife(camera_range, response, noise, math.sqrt(float(scale_x) * float(scale_y)), seed)
+    (width, height), crop = region["input_size"], region["crop_window"]
+    return CameraLife(camera_range, response, noise, math.sqrt(width / crop[2] * height / crop[3]), seed)
 
 
 def plan_lines(manifest: dict, regions: dict[str, dict], camera_range: CameraRange | None) -> list[str]:
