@@ -87,6 +87,12 @@ def report_result(result: ExportResult, output: Path) -> None:
         width, height = reference["cells"]
         print(f"  scene fitness reference: {reference['made_from']}, {width}x{height} cells of "
               f"{reference['cell_px']} px")
+        fit = reference.get("fit_range")
+        if fit:
+            print(f"  fit range (compiled for): down to {-fit['dark_stops']:+.2f} and up to "
+                  f"{fit['overexposed_stops']:+.2f} stops, sharpness down to {fit['blurred_sharpness']:.2f}, "
+                  f"colour cast up to {fit['colour_cast_stops']:.2f} stops, monochrome "
+                  f"{'fit' if fit['monochrome'] else 'unfit'}")
     else:
         print("  no scene fitness reference (give the run's scene with --scene): vc-run reports every frame's "
               "fitness as unknown")
