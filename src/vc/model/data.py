@@ -137,7 +137,7 @@ class TrainingStream(Dataset):
             annotations = [shifted(annotation, -x0, -y0) for annotation in annotations]
         targets = encode(annotations, instances, self.codec)
         if self.camera_life is not None:
-            image = self.camera_life.apply(np.ascontiguousarray(image), rng)
+            image = self.camera_life.apply(image, rng)
         image = image.astype(np.float32) / 255.0
         if self.augmentation is not None:
             image = self.augmentation.apply(image, rng)
