@@ -67,6 +67,25 @@ def test_recall_is_broken_down_by_group_height_and_region(analysis):
     assert analysis.recall_by_region()["right"] == {"people": 7, "recall": round(3 / 7, 4)}
 
 
+def test_recall_is_broken_down_by_the_frames_edge_when_its_size_is_given():
+    cut = [700, 100, 720, 160]  # walking in at the right edge of a 720 px wide frame, the box clipped there
+    near = [670, 300, 690, 360]  # 30 px from the edge: half of its 60 px height
+    inside = [300, 150, 320, 210]  # 150 px from the nearest edge (the top): 2.5 heights
+    truth = np.array([cut, near, inside], float)
+    image = ImageResult(truth, np.array([near, inside], float), np.array([0.9, 0.8]))
+    analysis = analyse_misses([image], [1], frame_size=(720, 400))
+    assert analysis.recall_by_edge() == {"cut by the frame": {"people": 1, "recall": 0.0},
+                                         "0.5-2 heights from an edge": {"people": 1, "recall": 1.0},
+                                         ">= 2 heights": {"people": 1, "recall": 1.0}}
+    assert analysis.summary()["recall_by_edge"] == analysis.recall_by_edge()
+    missed = analysis.to_dict()["people"]
+    assert [person["edge_px"] for person in missed] == [0.0]
+    # without the frame's size nothing is broken down by it
+    unsized = analyse_misses([image], [1])
+    assert unsized.recall_by_edge() == {} and "recall_by_edge" not in unsized.summary()
+    assert "edge_px" not in unsized.to_dict()["people"][0]
+
+
 def test_the_worst_frames_are_those_with_most_errors(analysis):
     assert analysis.frame_errors() == {7: 8, 8: 0}  # 4 people not found, 4 false positives
     assert analysis.worst_frames(5) == [7]  # a frame without errors is not shown

@@ -99,6 +99,7 @@ def _miss_summary(misses: MissAnalysis) -> str:
              f"near misses, {outcomes['missed']} with nothing near",
              f"  recall by height: {_rates(misses.recall_by_height())}",
              f"  by overlap: {_rates(misses.recall_by_group())}; by region: {_rates(misses.recall_by_region())}",
+             *([f"  by the frame's edge: {_rates(edge)}"] if (edge := misses.recall_by_edge()) else []),
              "  false positives: " + ", ".join(f"{count} {kind}" for kind, count in kinds.items())]
     if near["width_ratio"] is not None:
         lines.append(f"  near misses: width x{near['width_ratio']['median']:.2f}, height "

@@ -25,9 +25,11 @@ read. Boxes are [x0, y0, x1, y1] in frame pixels; matching is :func:`vc.evaluati
    * **background**: none of these (nobody there, or a person too far off to count).
 
 4. Recall is broken down by group (a person whose box overlaps another's by IoU >=
-   :data:`~vc.evaluation.metrics.GROUP_IOU`), person height (:data:`HEIGHT_BINS`) and region (the region whose
+   :data:`~vc.evaluation.metrics.GROUP_IOU`), person height (:data:`HEIGHT_BINS`), region (the region whose
    owned image area holds the person's foot point, the bottom centre of the box, as the runtime assigns
-   detections).
+   detections) and, when the frame's size is given, the frame's edge: a person whose box reaches within
+   :data:`CUT_PX` of an edge is **cut by the frame** (annotators clip the box there; people walking in or out),
+   the others by how far their box stays from the nearest edge, in their own heights (:data:`EDGE_BINS`).
 5. Frames are ranked by their errors (misses, near misses and false positives) for a contact sheet of the worst.
 """
 
@@ -47,6 +49,11 @@ from vc.evaluation.metrics import IOU_THRESHOLD, Evaluation, ImageResult, evalua
 NEAR_IOU = 0.3
 #: Ground-truth person heights (px) over which recall is broken down.
 HEIGHT_BINS = (0, 60, 80, 100, 10_000)
+#: A ground-truth box within this many pixels of a frame edge is cut by the frame (annotators clip boxes to it).
+CUT_PX = 2.0
+#: Distances of an uncut box to the nearest frame edge, in the person's heights, over which recall is broken down.
+EDGE_BINS = (0.0, 0.5, 2.0, float("inf"))
+CUT_BY_THE_FRAME = "cut by the frame"
 OUTCOMES = ("found", "near miss", "missed")
 OUTSIDE_ANNOTATED_AREA = "outside the annotated area"
 FALSE_POSITIVE_KINDS = ("duplicate", "merged", "misplaced", OUTSIDE_ANNOTATED_AREA, "background")
@@ -64,6 +71,7 @@ class PersonOutcome:
     region: str | None  # whose owned area holds the foot point; None outside every region or without regions
     nearest: np.ndarray | None = None  # (4,) the kept detection of best IoU, for near misses
     nearest_found_another: bool = False  # that detection is another person's match
+    edge_px: float | None = None  # the box's distance to the nearest frame edge (None: the frame's size unknown)
 
     @property
     def height(self) -> float:
@@ -83,6 +91,8 @@ class PersonOutcome:
     def to_dict(self) -> dict:
         result = {"frame": self.frame, "box": [round(float(v), 1) for v in self.box], "outcome": self.outcome,
                   "best_iou": round(self.best_iou, 3), "grouped": self.grouped, "region": self.region}
+        if self.edge_px is not None:
+            result["edge_px"] = round(self.edge_px, 1)
         error = self.box_error()
         if error is not None:
             result.update({key: round(value, 3) for key, value in error.items()},
@@ -156,6 +166,20 @@ class MissAnalysis:
             rates["outside every region"] = _rate(outside)
         return rates
 
+    def recall_by_edge(self) -> dict:
+        """Recall of the people cut by the frame, and of the others by their distance to the nearest edge in their
+        own heights (:data:`EDGE_BINS`); empty when the frame's size was not given."""
+        if any(person.edge_px is None for person in self.people):
+            return {}
+        cut = np.array([person.edge_px <= CUT_PX for person in self.people], bool)
+        heights = np.array([max(person.height, 1.0) for person in self.people])
+        distance = np.array([person.edge_px for person in self.people]) / heights
+        rates = {CUT_BY_THE_FRAME: cut}
+        for low, high in zip(EDGE_BINS[:-1], EDGE_BINS[1:], strict=True):
+            label = f"{low:g}-{high:g} heights from an edge" if np.isfinite(high) else f">= {low:g} heights"
+            rates[label] = ~cut & (distance >= low) & (distance < high)
+        return {label: _rate(found) for label, selected in rates.items() if len(found := self._found_where(selected))}
+
     def outcomes(self, grouped: bool | None = None) -> dict[str, int]:
         """People per outcome, of all people or of those (not) in a group."""
         return {outcome: sum(person.outcome == outcome and grouped in (None, person.grouped)
@@ -195,7 +219,8 @@ class MissAnalysis:
                 "recall": round(self.recall, 4), "f1": round(self.f1, 4),
                 "false_positives": len(self.false_positives), "missed": len(self.people) - self.outcomes()["found"],
                 "outcomes": self.outcomes(), "recall_by_height": self.recall_by_height(),
-                "recall_by_overlap": self.recall_by_group(), "recall_by_region": self.recall_by_region()}
+                "recall_by_overlap": self.recall_by_group(), "recall_by_region": self.recall_by_region(),
+                **({"recall_by_edge": edge} if (edge := self.recall_by_edge()) else {})}
 
     def to_dict(self) -> dict:
         errors = self.frame_errors()
@@ -258,11 +283,12 @@ def _false_positive_kind(detection: np.ndarray, truth: np.ndarray, overlaps: np.
 
 def analyse_misses(images: Sequence[ImageResult], frames: Sequence[int],
                    region_of: Callable[[np.ndarray], list[str | None]] | None = None,
-                   annotated_area: AnnotatedArea | None = None) -> MissAnalysis | None:
+                   annotated_area: AnnotatedArea | None = None,
+                   frame_size: tuple[int, int] | None = None) -> MissAnalysis | None:
     """The operating point of ``images`` (one per frame number in ``frames``), every person and false positive
     sorted by kind. ``region_of`` maps foot points (N, 2) to region names (None: outside every region);
-    ``annotated_area``: where the ground truth annotates people (None: everywhere). None when there are no
-    detections."""
+    ``annotated_area``: where the ground truth annotates people (None: everywhere); ``frame_size`` (width, height):
+    the frames', for recall by the frame's edge (None: not broken down). None when there are no detections."""
     point = operating_point(images)
     if point is None:
         return None
@@ -278,6 +304,7 @@ def analyse_misses(images: Sequence[ImageResult], frames: Sequence[int],
         in_group = grouped(truth)
         ignored = image.ignored()
         annotated = annotated_area.contains(boxes) if annotated_area is not None else np.ones(len(boxes), bool)
+        edges = _edge_distances(truth, frame_size) if frame_size is not None else [None] * len(truth)
         for index, box in enumerate(truth):
             if ignored[index]:
                 continue
@@ -291,7 +318,7 @@ def analyse_misses(images: Sequence[ImageResult], frames: Sequence[int],
             else:
                 outcome, nearest, another = "missed", None, False
             people.append(PersonOutcome(int(frame), box, outcome, best_iou, bool(in_group[index]), regions[index],
-                                        nearest, another))
+                                        nearest, another, edges[index]))
         for detection, (box, score) in enumerate(zip(boxes, scores, strict=True)):
             if detection in matched_detections:
                 continue
@@ -302,6 +329,14 @@ def analyse_misses(images: Sequence[ImageResult], frames: Sequence[int],
             false_positives.append(FalsePositive(int(frame), box, float(score), kind))
     return MissAnalysis(point.threshold, float(point.evaluation.precision[point.index]),
                         float(point.evaluation.recall[point.index]), people, false_positives)
+
+
+def _edge_distances(boxes: np.ndarray, frame_size: tuple[int, int]) -> list[float]:
+    """Each box's distance (px) to the nearest edge of a ``frame_size`` (width, height) frame; 0 or less when it
+    reaches or crosses one."""
+    width, height = frame_size
+    return [float(value) for value in np.min(np.stack(
+        [boxes[:, 0], boxes[:, 1], width - boxes[:, 2], height - boxes[:, 3]]), axis=0)] if len(boxes) else []
 
 
 def region_lookup(areas: Mapping[str, dict]) -> Callable[[np.ndarray], list[str | None]]:

@@ -121,16 +121,17 @@ def plot_miss_analysis(analysis: MissAnalysis, destination: Path, title: str) ->
     outcomes_axis.legend(fontsize=8)
 
     rates = {**{f"height {k}": v for k, v in analysis.recall_by_height().items()},
-             **{f"region {k}": v for k, v in analysis.recall_by_region().items()}}
+             **{f"region {k}": v for k, v in analysis.recall_by_region().items()},
+             **{f"edge: {k}": v for k, v in analysis.recall_by_edge().items()}}
     labels = list(rates)
     values = [rates[label]["recall"] or 0.0 for label in labels]
-    bars = recall_axis.barh(labels, values, color=["tab:blue" if label.startswith("height") else "tab:purple"
-                                                   for label in labels])
+    colours = {"height": "tab:blue", "region": "tab:purple", "edge:": "tab:green"}
+    bars = recall_axis.barh(labels, values, color=[colours[label.split(" ")[0]] for label in labels])
     for bar, label in zip(bars, labels, strict=True):
         recall_axis.annotate(f" {rates[label]['recall']:.2f} of {rates[label]['people']}",
                              (bar.get_width(), bar.get_y() + bar.get_height() / 2), va="center", fontsize=8)
     recall_axis.invert_yaxis()
-    recall_axis.set(xlim=(0, 1.25), xlabel="recall", title="recall by person height and region")
+    recall_axis.set(xlim=(0, 1.25), xlabel="recall", title="recall by person height, region and the frame's edge")
 
     near = [person for person in analysis.people if person.outcome == "near miss"]
     errors = [person.box_error() for person in near]

@@ -236,7 +236,8 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
     evaluations = {name: evaluate(record.images) for name, record in records.items()}
     annotated_area = AnnotatedArea.of(truth)
     areas = {entry.name: entry.owned_image_area for entry in bundle.regions}
-    misses = analyse_misses(records[OURS].images, list(people_by_frame), region_lookup(areas), annotated_area)
+    misses = analyse_misses(records[OURS].images, list(people_by_frame), region_lookup(areas), annotated_area,
+                            bundle.frame_size)
     agreements = _pose_agreements(records, list(others))
     tracking = ({"fps": rate, "config": asdict(request.tracking)} if tracker else
                 {"off": "--no-tracking" if request.tracking is None else
