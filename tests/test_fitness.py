@@ -32,7 +32,7 @@ SRGB = Response("srgb")
 DECODE = SRGB.decode(np.arange(256, dtype=np.uint8))
 TUD_FRAMES = REPO.parent / "shared" / "data" / "tud_stadtmitte" / "frames"
 NUMBERS = ("spread", "coherence", "exposure_stops", "matching", "sharpness", "shift_peak", "colour_left",
-           "colour_cast_stops")
+           "colour_cast_stops", "veil", "noise_codes", "correlation")
 
 
 def _smooth(rng: np.random.Generator, shape: tuple[int, int], size: int) -> np.ndarray:
@@ -390,7 +390,8 @@ def test_the_export_stage_given_the_runs_scene_writes_its_reference(trained_run,
 
     write_image(tmp_path / "background.png", background)
     scene = SimpleNamespace(content_hash="f" * 64, image_path=tmp_path / "background.png", name="flat",
-                            path=tmp_path / "scene.yaml", camera_response=lambda: SimpleNamespace(response=SRGB))
+                            path=tmp_path / "scene.yaml", camera_response=lambda: SimpleNamespace(response=SRGB),
+                            video_path=None)
     result = export(trained_run, tmp_path / "bundle", ExportSettings(precision="fp32", eval_samples=0),
                     show_progress=False, scene=scene)
     entry = result.manifest["reference"]
@@ -474,8 +475,26 @@ def test_real_frames_are_ok_and_their_conditions_read_as_named(request, camera, 
 # Compiled over the camera's range: what the bundle saw in training is fit (docs/decisions/0014-camera-range.md).
 
 #: The fit range of a bundle compiled over the default camera range, as vc-export measured it on PETS09.
-COMPILED_RANGE = fit.FitRange(dark_stops=3.19, overexposed_stops=1.25, blurred_sharpness=0.07, colour_cast_stops=0.91,
-                              monochrome=True)
+COMPILED_RANGE = fit.FitRange(dark_stops=3.19, overexposed_stops=1.25, blurred_sharpness=0.04, colour_cast_stops=0.91,
+                              monochrome=True, veil_share=0.94, noise_codes=68.4, changed_agreement=0.48)
+
+
+def _camera(condition) -> np.ndarray:
+    """A function of a frame: the frame under one camera-range ``condition`` (vc.model.camera_range)."""
+    from vc.calibration.noise import NoiseModel
+    from vc.model.camera_range import CameraLife, CameraRange
+
+    life = CameraLife(CameraRange(), SRGB, NoiseModel(0.0, 0.0), region_scale=1.0)
+    return lambda image: life.render(image, condition, np.random.default_rng(0))
+
+
+def _weather():
+    from vc.model.camera_range import Condition
+
+    return {"gain noise": Condition(gain_noise=0.15, shot_share=0.75),
+            "fog": Condition(veil_transmission=0.4, airlight=2.0),
+            "snow": Condition(precipitation=(0.004, 1.0, 3.0, 5.0, 0.8)),
+            "defocus": Condition(defocus_px=3.0)}
 
 
 @pytest.mark.parametrize(("change", "expected"), [
@@ -490,6 +509,40 @@ def test_a_bundle_compiled_over_the_camera_range_takes_its_range_as_fit(backgrou
     assert reference.fitness(change(background), COMPILED_RANGE).state == expected
 
 
+@pytest.mark.parametrize("weather", ["gain noise", "fog", "snow", "defocus"])
+def test_noise_fog_snow_and_defocus_are_fit_as_far_as_the_bundle_was_compiled_for_them(background, weather):
+    """A bundle compiled over the range sees through them; one compiled for the background's one look never saw
+    them: its fitness withholds the frame (the noisy one by its noise, the veiled one by its veil)."""
+    reference = SceneReference.of_background(background, DECODE)
+    frame = _camera(_weather()[weather])(background)
+    compiled = reference.fitness(frame, COMPILED_RANGE)
+    assert compiled.state == fit.OK, compiled
+    one_look = reference.fitness(frame)
+    expected = {"gain noise": "noise of", "fog": "stops against", "defocus": "fine detail"}  # fog: dark, first
+    if weather in expected:
+        assert one_look.unfit and expected[weather] in one_look.reason, one_look
+    if weather == "fog":
+        assert 0.4 < compiled.veil < 0.9 and abs(compiled.exposure_stops - math.log2(0.4)) < 0.3
+    if weather == "gain noise":
+        assert 30 < compiled.noise_codes < 50  # 0.15 of the code range is 38 codes at mid-grey
+
+
+def test_real_frames_read_no_veil_and_their_sensor_s_noise(pets):
+    reference, frames = pets
+    for frame in frames:
+        fitness = reference.fitness(frame, COMPILED_RANGE)
+        assert fitness.state == fit.OK and fitness.veil == 0.0 and fitness.noise_codes < 3.0
+
+
+def test_another_view_stays_changed_whatever_the_range(background):
+    """What the range widens is the look of the same view: another one still matches nothing."""
+    reference = SceneReference.of_background(background, DECODE)
+    other = scene_background(seed=8)
+    for frame in (other, _camera(_weather()["gain noise"])(other), _camera(_weather()["fog"])(other)):
+        fitness = reference.fitness(frame, COMPILED_RANGE)
+        assert fitness.unfit and fitness.correlation < fit.SAME_VIEW_CORRELATION, fitness
+
+
 def test_the_fit_range_is_measured_on_the_background_at_the_camera_range_s_ends(background):
     from vc.model.camera_range import CameraRange, fit_range_of
 
@@ -499,10 +552,17 @@ def test_the_fit_range_is_measured_on_the_background_at_the_camera_range_s_ends(
     assert 3.0 <= measured.dark_stops <= 3.5 and measured.overexposed_stops == fit.OVEREXPOSED_STOPS
     assert measured.colour_cast_stops > fit.COLOUR_CAST_STOPS and measured.monochrome
     assert measured.blurred_sharpness < fit.BLURRED_SHARPNESS
-    night_less = fit_range_of(CameraRange(night_ir=0.0, blurred=0.0, exposure_stops=(-1.0, 0.5)), reference,
-                              background, SRGB)
+    assert measured.noise_codes > 40 and measured.veil_share >= fit.VEIL_SHARE
+    drifting = fit_range_of(CameraRange(), reference, background, SRGB, [exposed(background, 0.4), background])
+    assert drifting.overexposed_stops == pytest.approx(measured.overexposed_stops + 0.4, abs=0.05)
+    assert drifting.dark_stops == measured.dark_stops  # the frames never drifted darker
+    assert fit.CHANGED_AGREEMENT > measured.changed_agreement >= 0.3
+    night_less = fit_range_of(CameraRange(night_ir=0.0, blurred=0.0, exposure_stops=(-1.0, 0.5), noisy=0.0,
+                                          veiled=0.0, precipitation=0.0), reference, background, SRGB)
     assert not night_less.monochrome and night_less.blurred_sharpness == fit.BLURRED_SHARPNESS
     assert night_less.dark_stops == fit.DARK_STOPS  # never tighter than the background's own look
+    assert (night_less.noise_codes, night_less.veil_share, night_less.changed_agreement) == (
+        fit.NOISE_CODES, fit.VEIL_SHARE, fit.CHANGED_AGREEMENT)
 
 
 def _with_fit_range(bundle: Path, background: np.ndarray, fit_range: object, output: Path) -> Path:

@@ -92,7 +92,8 @@ def report_result(result: ExportResult, output: Path) -> None:
             print(f"  fit range (compiled for): down to {-fit['dark_stops']:+.2f} and up to "
                   f"{fit['overexposed_stops']:+.2f} stops, sharpness down to {fit['blurred_sharpness']:.2f}, "
                   f"colour cast up to {fit['colour_cast_stops']:.2f} stops, monochrome "
-                  f"{'fit' if fit['monochrome'] else 'unfit'}")
+                  f"{'fit' if fit['monochrome'] else 'unfit'}, a veil up to {fit['veil_share']:.2f} of the light, "
+                  f"noise up to {fit['noise_codes']:.1f} codes, agreement down to {fit['changed_agreement']:.2f}")
     else:
         print("  no scene fitness reference (give the run's scene with --scene): vc-run reports every frame's "
               "fitness as unknown")

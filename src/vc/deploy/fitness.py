@@ -19,8 +19,9 @@ with the background cell by cell (the exposure on the cells that still match, th
 structure and colour of each cell), which needs the cells themselves.
 
 **The states**, decided in this order: the first that holds is the frame's. All but the sharpness are measured on the
-cells (about 7 000 numbers): a PETS09 frame costs 1.6 ms of one core (the 2-core development machine, shared), and
-the runtime measures it while the networks run (docs/decisions/0013-scene-fitness.md).
+cells (about 7 000 numbers): a PETS09 frame costs about 1.8 ms of one core, 2.8 with a veil taken off (the 2-core
+development machine, shared), and the runtime measures it while the networks run (docs/decisions/0013-scene-fitness.md,
+0016-weather-and-gain.md).
 
 1. ``covered`` — the frame shows no scene: black, uniform, a covered lens, a lost signal's noise. Either its coarse
    luminance (code luma of the cells) varies less than :data:`COVERED_SPREAD` of the background's (standard
@@ -32,7 +33,11 @@ the runtime measures it while the networks run (docs/decisions/0013-scene-fitnes
    again over the cells within :data:`MATCH_STOPS` of that first median — the cells that still match the
    background under one gain. People, and whatever else changed, do not follow the gain, and the median ignores
    them while they cover less than half the cells. Below ``-``:data:`DARK_STOPS` the frame is ``dark``, above
-   :data:`OVEREXPOSED_STOPS` ``overexposed``.
+   :data:`OVEREXPOSED_STOPS` ``overexposed``. A veil (fog, haze, a dome's glare) adds light that follows no part of
+   the scene (Koschmieder: ``t L + (1 - t) A``): the frame's median light per band of the background's luminance
+   (:data:`VEIL_BANDS`), fitted as a line, has its airlight as offset, taken block by block since fog is patchy.
+   When taking it off makes :data:`VEIL_AGREEMENT` more of the cells match (step 5), the ratios, the exposure and
+   the colour are the scene's light without it, and the frame's ``veil`` is the airlight's share of its light.
 3. ``blurred`` — sharpness: the frame's fine-scale gradient energy (mean squared difference of neighbouring pixels,
    green channel, full resolution, per row of cells) over the background's, the median over the rows, divided by
    the square of step 1's spread. Contrast and exposure scale the squared differences as the square of the spread
@@ -46,17 +51,22 @@ the runtime measures it while the networks run (docs/decisions/0013-scene-fitnes
    anywhere and says nothing. The coarse cells read shifts under a cell short (3 px as 1.5-2.3 on PETS09's 8 px
    cells): the bound is on the measured shift. :meth:`SceneReference.register` measures a move to the whole pixel
    (up to :data:`REGISTRATION_BOUND_PX`), for the runtime to compensate; a frame it has moved back reads ``ok``.
-5. ``changed`` — agreement: fewer than :data:`CHANGED_AGREEMENT` of the cells match the background: their light is
-   within :data:`MATCH_STOPS` of the frame's gain (step 2) and, between bright unclipped neighbours, their ratio to
-   the background changes by at most :data:`STRUCTURE_STOPS` from cell to cell (the background's structure, whatever
-   the exposure: a flat thing in front of textured ground does not match where its light happens to be the
-   ground's). The view itself changed, over more of it than a crowd covers. Or its colour did, on the matching cells
+5. ``changed`` — a veil over more than :data:`VEIL_SHARE` of the light; a noise (the frame's fine energy beyond the
+   background's at its contrast, per pixel) over :data:`NOISE_CODES`; another view: the cells' coarse luminance
+   correlates under :data:`SAME_VIEW_CORRELATION` with the background's; or agreement: fewer than
+   :data:`CHANGED_AGREEMENT` of the cells match the background: their light is within :data:`MATCH_STOPS` of the
+   frame's gain (step 2) and, between bright unclipped neighbours, their ratio to the background changes by at most
+   :data:`STRUCTURE_STOPS` from cell to cell (the background's structure, whatever the exposure: a flat thing in
+   front of textured ground does not match where its light happens to be the ground's), both widened by
+   :data:`NOISE_SIGMAS` of the cell's noise (a cell averages a few pixels of it). The view itself changed, over more
+   of it than a crowd covers. Or its colour did, on the matching cells
    bright enough to have one (:data:`COLOUR_FLOOR`): less than :data:`COLOUR_LEFT` of the background's colour
    variation is left (a monochrome night mode), or a cast of more than :data:`COLOUR_CAST_STOPS` (white balance):
    the median of each cell's log chromaticity (R/G, B/G in linear light) minus the background's.
 
-The bounds of steps 2, 3 and 5's colour are the bundle's :class:`FitRange`: the constants below for a bundle compiled
-for the background's one look, wider for one compiled over the camera's range (a monochrome frame is then fit too).
+The bounds of steps 2, 3 and 5 are the bundle's :class:`FitRange`: the constants below for a bundle compiled for the
+background's one look, wider for one compiled over the camera's range (a monochrome frame is then fit too, and a
+noisy, veiled, snowy or defocused one as far as the range went: docs/decisions/0016-weather-and-gain.md).
 Otherwise ``ok``. A bundle without a reference gives ``unknown``, with the reason. Every number is finite whatever
 the frame (black, white, one bright pixel): divisions have floors and empty selections fall back.
 """
@@ -125,10 +135,11 @@ REGISTRATION_BOUND_PX = 24
 #: moved back by what they read and measured again; three rounds bring 24 px to within a pixel, a last search of the
 #: neighbouring whole pixels settles it.
 REGISTRATION_ROUNDS = 4
-#: A registration holds when the view moved back correlates with the background's coarse luminance at least this
-#: much: real frames 0.92-0.96 (PETS09) and 0.75-0.90 (TUD-Stadtmitte's crowds), noise 0.00, another camera's view
-#: -0.33.
-REGISTERED_CORRELATION = 0.5
+#: A frame shows the background's view when its coarse luminance correlates with the background's at least this
+#: much (step 5; a registration holds when the view moved back does): real frames 0.92-0.96 (PETS09) and 0.75-0.90
+#: (TUD-Stadtmitte's crowds), noise 0.00, another camera's view -0.33. Exposure, contrast, a veil and a cell's
+#: worth of noise leave it; another view does not have it.
+SAME_VIEW_CORRELATION = 0.5
 #: The phase correlation's peak must reach this for a shift to count: real frames 0.33 and more, noise and another
 #: camera's view 0.10 at most.
 MOVED_PEAK = 0.15
@@ -157,6 +168,26 @@ MIN_COLOUR_VARIATION = 0.05
 MIN_FINE_ENERGY = 1.0
 #: Selections with fewer cells than this fall back (to all cells) or are not measured.
 MIN_CELLS = 16
+#: The background's unclipped cells are split into this many bands of luminance for the veil's fit (step 2): the
+#: frame's median light per band, against the band's, is a line whose offset is the airlight.
+VEIL_BANDS = 8
+#: Veiled beyond this share of the frame's light being airlight (fog, haze, a dome's glare; step 5): real frames fit
+#: 0.05 at most (PETS09 0.03, TUD-Stadtmitte 0.05); a bundle compiled for one look was never shown more
+#: (docs/decisions/0016-weather-and-gain.md).
+VEIL_SHARE = 0.15
+#: The veil's airlight is taken per block of this many cells a side (PETS09: 12x9 blocks of 64 px).
+VEIL_BLOCK_CELLS = 8
+#: A veil is taken off when the view then matches the background on this share of the cells more: a real veil
+#: brings 0.2 to 0.9 (PETS09 under fog), a frame clipped two stops over or moved a few pixels 0.03 at most.
+VEIL_AGREEMENT = 0.1
+#: Below this share of the light, the veil's fit is its own error (real frames' exposure drift through a response not
+#: quite the camera's) and no airlight is taken off.
+VEIL_FLOOR = 0.03
+#: Noisy beyond this per-pixel noise (8-bit codes, step 5): real frames read 2.7 at most (PETS09; TUD-Stadtmitte 0.7).
+NOISE_CODES = 6.0
+#: A cell's light is compared with the background's within this many standard deviations of the frame's noise
+#: (step 5), on top of the bounds for the scene itself: a noisy frame's cells match within their noise.
+NOISE_SIGMAS = 2.0
 
 #: The reference's archive members (``reference/background.npz`` in a bundle).
 REFERENCE_ARRAYS = ("cells", "decode", "cell_px", "fine_rows")
@@ -238,6 +269,16 @@ def _log_chroma(linear: np.ndarray) -> np.ndarray:
     return np.log2((linear[..., [0, 2]] + LINEAR_FLOOR) / (linear[..., 1:2] + LINEAR_FLOOR))
 
 
+def _line(x: np.ndarray, y: np.ndarray) -> tuple[float, float]:
+    """Least-squares gain and offset of ``y = gain x + offset``; (0, 0) when ``x`` does not vary (a background of
+    one light has no line to fit)."""
+    spread = float(np.var(x))
+    if spread <= 1e-12:
+        return 0.0, 0.0
+    gain = float(np.mean((x - x.mean()) * (y - y.mean()))) / spread
+    return gain, float(y.mean()) - gain * float(x.mean())
+
+
 def _window(shape: tuple[int, int]) -> np.ndarray:
     return np.outer(np.hanning(shape[0]), np.hanning(shape[1])).astype(np.float32)
 
@@ -259,9 +300,13 @@ class FitRange:
     blurred_sharpness: float = BLURRED_SHARPNESS
     colour_cast_stops: float = COLOUR_CAST_STOPS
     monochrome: bool = False  # a monochrome frame (an IR night mode) is fit
+    veil_share: float = VEIL_SHARE
+    noise_codes: float = NOISE_CODES
+    changed_agreement: float = CHANGED_AGREEMENT
 
     def __post_init__(self) -> None:
-        for name in ("dark_stops", "overexposed_stops", "blurred_sharpness", "colour_cast_stops"):
+        for name in ("dark_stops", "overexposed_stops", "blurred_sharpness", "colour_cast_stops", "veil_share",
+                     "noise_codes", "changed_agreement"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value) \
                     or value < 0:
@@ -303,6 +348,9 @@ class FrameFitness:
     shift_peak: float | None = None  # the phase correlation's peak (1: the same picture)
     colour_left: float | None = None  # colour variation / the background's (None for a grey background)
     colour_cast_stops: float | None = None  # chromaticity offset from the background
+    veil: float | None = None  # share of the frame's light that is airlight (fog, haze, glare)
+    noise_codes: float | None = None  # per-pixel noise beyond the background's, 8-bit codes
+    correlation: float | None = None  # of the coarse luminance with the background's
     registered_px: tuple[int, int] | None = None  # (x, y): the view's move the runtime compensated (None: none)
 
     @property
@@ -319,7 +367,7 @@ class FrameFitness:
         if self.unfit:
             result["reason"] = self.reason
         for name in ("spread", "coherence", "exposure_stops", "matching", "sharpness", "shift_peak", "colour_left",
-                     "colour_cast_stops"):
+                     "colour_cast_stops", "veil", "noise_codes", "correlation"):
             value = getattr(self, name)
             if value is not None:
                 result[name] = round(float(value), 3)
@@ -419,12 +467,26 @@ class SceneReference:
         enough = np.count_nonzero(bright) >= MIN_CELLS
         centre = np.median(chroma[bright], axis=0) if enough else np.zeros(2)
         variation = float(np.median(np.linalg.norm(chroma[bright] - centre, axis=1))) if enough else 0.0
+        clipped = _clipped(self.cells)
+        usable = luminance[~clipped]
+        edges = np.quantile(usable, np.linspace(0.0, 1.0, VEIL_BANDS + 1)[1:-1]) if usable.size >= MIN_CELLS \
+            else np.zeros(0)
+        band = np.searchsorted(edges, luminance)
+        bands = [(band == index) & ~clipped for index in range(len(edges) + 1)]
+        bands = [cells for cells in bands if np.count_nonzero(cells) >= MIN_CELLS]
+        samples = len(range(0, self.cell_px, -(-self.cell_px // MAX_SAMPLES_PER_SIDE))) ** 2
+        self._derived.update(
+            bands=bands, band_light=np.array([float(np.median(luminance[cells])) for cells in bands], np.float64),
+            band_channels=np.array([[float(np.median(linear[..., channel][cells])) for channel in range(3)]
+                                    for cells in bands], np.float64).reshape(-1, 3),
+            slope=np.append(np.diff(self.decode), self.decode[-1] - self.decode[-2]).astype(np.float32),
+            samples=samples)
         self._derived.update(
             luma=luma, luminance=luminance, window=window,
             conjugate=np.conj(np.fft.rfft2((luma - luma.mean()) * window)), spread=max(float(luma.std()), 1e-3),
             colour_cells=bright, colour_chroma=chroma,
             colour_centre=centre, colour_variation=variation,
-            clipped=_clipped(self.cells), fine_rows=np.maximum(self.fine_rows, MIN_FINE_ENERGY))
+            clipped=clipped, fine_rows=np.maximum(self.fine_rows, MIN_FINE_ENERGY))
 
     def fitness(self, frame: np.ndarray, fit_range: FitRange = BACKGROUND_ONLY) -> FrameFitness:
         """The fitness of an (H, W, 3) uint8 RGB frame of the bundle's camera (module docstring), within
@@ -436,36 +498,102 @@ class SceneReference:
         spread = float(luma.std()) / reference["spread"]
         coherence = _coherence(luma, energy)
 
-        ratio = np.log2((linear @ LUMA + LINEAR_FLOOR) / (reference["luminance"] + LINEAR_FLOOR))
         unclipped = ~(reference["clipped"] | _clipped(cells))
+        light = linear @ LUMA
+        fine_rows = fine_energy(frame, self.cell_px)
+        fine = float(np.median(fine_rows / reference["fine_rows"]))
+        sharpness = fine / spread ** 2 if spread > 1e-3 else 0.0
+        noise = math.sqrt(max(float(np.median(fine_rows - spread ** 2 * self.fine_rows)), 0.0) / 4.0)
+        # a cell's light is a mean of `samples` pixels: its noise, in codes of its luma
+        code_noise = np.float32(noise / math.sqrt(reference["samples"])) \
+            * reference["slope"][np.clip(luma.astype(np.int32), 0, 255)]
+
+        exposure, matching_cells = self._agreement(light, unclipped, code_noise)
+        scene, veil = linear, 0.0
+        airlight, share = self._veil(linear, light, unclipped)
+        if share >= VEIL_FLOOR:
+            # a veil is taken off only when the view then matches the background clearly better: a moved view, another
+            # view and a clipped one also fit a flatter line, and match no better for it
+            veiled_scene = np.clip(linear - airlight, 0.0, None)
+            veiled_exposure, veiled_cells = self._agreement(veiled_scene @ LUMA, unclipped, code_noise)
+            if np.count_nonzero(veiled_cells) > np.count_nonzero(matching_cells) + VEIL_AGREEMENT * matching_cells.size:
+                scene, veil, exposure, matching_cells = veiled_scene, share, veiled_exposure, veiled_cells
+        matching = float(np.mean(matching_cells))
+
+        shift, peak = self._shift(luma)
+
+        colour_left, cast = self._colour(scene, matching_cells & unclipped)
+
+        correlation = self._correlation(luma)
+        state, reason = self._decide(fit_range, spread, coherence, exposure, sharpness, shift, peak, matching,
+                                     colour_left, cast, veil, noise, correlation)
+        return FrameFitness(state, reason, spread, coherence, exposure, matching, sharpness, shift, peak, colour_left,
+                            cast, veil, noise, correlation)
+
+    def _agreement(self, light: np.ndarray, unclipped: np.ndarray, code_noise: np.ndarray) -> tuple[float,
+                                                                                                     np.ndarray]:
+        """The frame's exposure against the background (step 2) and the cells that match it (step 5), for the
+        scene's light ``light`` (linear luminance per cell) whose cells carry ``code_noise`` (their noise, linear
+        light)."""
+        reference = self.derived
+        ratio = np.log2((light + LINEAR_FLOOR) / (reference["luminance"] + LINEAR_FLOOR))
         usable = ratio[unclipped] if np.count_nonzero(unclipped) >= MIN_CELLS else ratio.ravel()
         first = float(np.median(usable))
         following = usable[np.abs(usable - first) < MATCH_STOPS]
         exposure = float(np.median(following)) if following.size >= MIN_CELLS else first
-        matching_cells = (np.abs(ratio - exposure) < MATCH_STOPS) & self._same_structure(ratio, unclipped)
-        matching = float(np.mean(matching_cells))
+        cell_noise = code_noise / ((light + LINEAR_FLOOR) * np.float32(math.log(2)))  # in stops
+        matching = (np.abs(ratio - exposure) < MATCH_STOPS + NOISE_SIGMAS * cell_noise) \
+            & self._same_structure(ratio, unclipped, cell_noise)
+        return exposure, matching
 
-        fine = float(np.median(fine_energy(frame, self.cell_px) / reference["fine_rows"]))
-        sharpness = fine / spread ** 2 if spread > 1e-3 else 0.0
+    def _veil(self, linear: np.ndarray, light: np.ndarray, unclipped: np.ndarray) -> tuple[np.ndarray, float]:
+        """The airlight (linear, (h, w, 3) per cell) a veil adds to the frame, and its share of the frame's light
+        (step 2): the frame's median light in each band of the background's luminance (:data:`VEIL_BANDS`), fitted
+        as a line against the band's; its offset, when positive, is light that follows no part of the scene. Fog is
+        patchy and glare falls off, so the light the line leaves over the scene's is then taken block by block
+        (:data:`VEIL_BLOCK_CELLS`, the median: people are a minority of a block); its colour is the offsets of the
+        same fit channel by channel (a haze takes the sky's colour). Under :data:`VEIL_FLOOR` of the light the
+        offset is the fit's own error and taken as none (zero airlight)."""
+        reference = self.derived
+        none = np.zeros(1, np.float32)
+        kept = [cells & unclipped for cells in reference["bands"]]
+        usable = [index for index, cells in enumerate(kept) if np.count_nonzero(cells) >= MIN_CELLS]
+        if len(usable) < 3:
+            return none, 0.0
+        frame_light = np.array([float(np.median(light[kept[index]])) for index in usable])
+        gain, offset = _line(reference["band_light"][usable], frame_light)
+        share = min(max(offset, 0.0) / max(float(frame_light.mean()), LINEAR_FLOOR), 1.0)
+        if gain <= 0 or share < VEIL_FLOOR:
+            return none, share
+        channel_offsets = np.array([_line(reference["band_channels"][usable, channel],
+                                          np.array([float(np.median(linear[..., channel][kept[index]]))
+                                                    for index in usable]))[1] for channel in range(3)])
+        colour = np.clip(channel_offsets, 0.0, None) / max(float(offset), LINEAR_FLOOR)
+        left = light - np.float32(gain) * reference["luminance"]
+        block = VEIL_BLOCK_CELLS
+        height, width = (left.shape[0] // block) * block, (left.shape[1] // block) * block
+        if height == 0 or width == 0:
+            return (np.float32(min(offset, frame_light.min())) * colour).astype(np.float32), share
+        blocks = np.median(left[:height, :width].reshape(height // block, block, width // block, block)
+                           .transpose(0, 2, 1, 3).reshape(height // block, width // block, -1), axis=2)
+        rows = np.minimum(np.arange(left.shape[0]) // block, blocks.shape[0] - 1)
+        columns = np.minimum(np.arange(left.shape[1]) // block, blocks.shape[1] - 1)
+        airlight = np.clip(blocks[rows][:, columns], 0.0, None)[..., None] * colour
+        return airlight.astype(np.float32), share
 
-        shift, peak = self._shift(luma)
-
-        colour_left, cast = self._colour(linear, matching_cells & unclipped)
-
-        state, reason = self._decide(fit_range, spread, coherence, exposure, sharpness, shift, peak, matching,
-                                     colour_left, cast)
-        return FrameFitness(state, reason, spread, coherence, exposure, matching, sharpness, shift, peak, colour_left,
-                            cast)
-
-    def _same_structure(self, ratio: np.ndarray, unclipped: np.ndarray) -> np.ndarray:
+    def _same_structure(self, ratio: np.ndarray, unclipped: np.ndarray, cell_noise: np.ndarray) -> np.ndarray:
         """Cells whose luminance ratio to the background changes by at most :data:`STRUCTURE_STOPS` to their right
-        and lower neighbours: the frame's light follows the background's from cell to cell, so the cell shows the
-        background's structure. Tested between cells bright enough to have one (:data:`COLOUR_FLOOR`) and unclipped;
-        the others pass."""
+        and lower neighbours (and their noise, ``cell_noise`` stops, :data:`NOISE_SIGMAS` times): the frame's light
+        follows the background's from cell to cell, so the cell shows the background's structure. Tested between
+        cells bright enough to have one (:data:`COLOUR_FLOOR`) and unclipped; the others pass."""
         tested = self.derived["bright"] & unclipped
         same = np.ones(ratio.shape, bool)
-        across = (np.abs(np.diff(ratio, axis=1)) > STRUCTURE_STOPS) & tested[:, 1:] & tested[:, :-1]
-        down = (np.abs(np.diff(ratio, axis=0)) > STRUCTURE_STOPS) & tested[1:] & tested[:-1]
+        spread = np.float32(NOISE_SIGMAS * math.sqrt(2.0))
+        across = (np.abs(np.diff(ratio, axis=1))
+                  > STRUCTURE_STOPS + spread * np.maximum(cell_noise[:, 1:], cell_noise[:, :-1])) \
+            & tested[:, 1:] & tested[:, :-1]
+        down = (np.abs(np.diff(ratio, axis=0))
+                > STRUCTURE_STOPS + spread * np.maximum(cell_noise[1:], cell_noise[:-1])) & tested[1:] & tested[:-1]
         same[:, :-1] &= ~across
         same[:-1] &= ~down
         return same
@@ -488,7 +616,7 @@ class SceneReference:
     def register(self, frame: np.ndarray, bound_px: float = REGISTRATION_BOUND_PX) -> tuple[int, int] | None:
         """How far, in whole frame pixels (x, y), the view of ``frame`` moved from the background's; None when the
         correlation says nothing (an unrelated picture: the phase correlation's peak under :data:`MOVED_PEAK`, or
-        the view moved back correlating under :data:`REGISTERED_CORRELATION`) or the move is beyond ``bound_px``.
+        the view moved back correlating under :data:`SAME_VIEW_CORRELATION`) or the move is beyond ``bound_px``.
         The frame is moved back by what the coarse cells read and read again (:data:`REGISTRATION_ROUNDS`), then
         the neighbouring whole pixels are compared by the correlation of their cells' luminance with the
         background's."""
@@ -506,10 +634,13 @@ class SceneReference:
         candidates = [(int(shift[0] + dx), int(shift[1] + dy)) for dy in (-1, 0, 1) for dx in (-1, 0, 1)]
         scored = [(self._luma_correlation(translated(frame, candidate)), candidate) for candidate in candidates]
         correlation, best = max(scored)
-        return best if math.hypot(*best) <= bound_px and correlation >= REGISTERED_CORRELATION else None
+        return best if math.hypot(*best) <= bound_px and correlation >= SAME_VIEW_CORRELATION else None
 
     def _luma_correlation(self, frame: np.ndarray) -> float:
-        luma = cell_means(frame, self.cell_px) @ LUMA
+        return self._correlation(cell_means(frame, self.cell_px) @ LUMA)
+
+    def _correlation(self, luma: np.ndarray) -> float:
+        """Correlation of the cells' coarse luminance with the background's."""
         reference = self.derived["luma"]
         frame_centred, reference_centred = luma - luma.mean(), reference - reference.mean()
         scale = float(np.sqrt((frame_centred ** 2).sum() * (reference_centred ** 2).sum()))
@@ -534,7 +665,7 @@ class SceneReference:
     @staticmethod
     def _decide(fit: FitRange, spread: float, coherence: float, exposure: float, sharpness: float,
                 shift: tuple[float, float], peak: float, matching: float, colour_left: float | None,
-                cast: float | None) -> tuple[str, str]:
+                cast: float | None, veil: float, noise: float, correlation: float) -> tuple[str, str]:
         if spread < COVERED_SPREAD:
             return COVERED, f"no scene: {spread:.2f} of the background's contrast (covered below {COVERED_SPREAD})"
         if coherence < COVERED_COHERENCE:
@@ -551,8 +682,17 @@ class SceneReference:
         distance = math.hypot(*shift)
         if distance > MOVED_PX and peak >= MOVED_PEAK:
             return MOVED, f"moved {distance:.1f} px from the background (bound {MOVED_PX:g} px)"
-        if matching < CHANGED_AGREEMENT:
-            return CHANGED, f"{matching:.2f} of the view matches the background (changed below {CHANGED_AGREEMENT})"
+        if veil > fit.veil_share:
+            return CHANGED, f"{veil:.2f} of the light is a veil's (fog, haze, glare; changed above " \
+                            f"{fit.veil_share:.2f})"
+        if noise > fit.noise_codes:
+            return CHANGED, f"noise of {noise:.1f} codes (changed above {fit.noise_codes:.1f})"
+        if correlation < SAME_VIEW_CORRELATION:
+            return CHANGED, f"the view correlates {correlation:.2f} with the background's (another view below " \
+                            f"{SAME_VIEW_CORRELATION})"
+        if matching < fit.changed_agreement:
+            return CHANGED, f"{matching:.2f} of the view matches the background (changed below " \
+                            f"{fit.changed_agreement:.2f})"
         if colour_left is not None and colour_left < COLOUR_LEFT and not fit.monochrome:
             return CHANGED, f"{colour_left:.2f} of the background's colour left (monochrome; changed below " \
                             f"{COLOUR_LEFT})"

@@ -42,6 +42,7 @@ from vc.model.codec import expected_height_map
 from vc.model.network import ScenePoseNet
 from vc.model.precision import choose_precision
 from vc.model.trainer import Checkpoint, TrainConfig, load_checkpoint
+from vc.render.camera_measurements import video_frames
 from vc.render.dataset import RegionData, open_region
 from vc.scenes.loader import Scene
 from vc.versions import package_versions
@@ -214,7 +215,9 @@ def bundle_files(run: Path, precision: str = "fp32", eval_samples: int = 200, ca
     }
     if scene is not None:
         reference, background = scene_reference(scene), read_image(scene.image_path)
-        fit_range = fit_range_of(first_config.camera_range, reference, background, scene.camera_response().response)
+        frames = video_frames(scene) if scene.video_path is not None else []
+        fit_range = fit_range_of(first_config.camera_range, reference, background, scene.camera_response().response,
+                                 frames)
         manifest, files = with_reference(manifest, files, reference,
                                          f"{scene.image_path.name}, the background of scene {scene.name!r}",
                                          fit_range)

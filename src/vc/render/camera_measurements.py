@@ -63,7 +63,9 @@ def measured_frames(video: Path) -> FrameRange:
     return FrameRange(1, span, max(1, span // VIDEO_FRAMES))
 
 
-def _video_frames(scene: Scene) -> list[np.ndarray]:
+def video_frames(scene: Scene) -> list[np.ndarray]:
+    """The frames of the scene's video that are measured (:func:`measured_frames`), checked: enough of them, of the
+    camera's size."""
     frames = [frame.image for frame in FrameSource(scene.video_path, measured_frames(scene.video_path))]
     if len(frames) < MIN_VIDEO_FRAMES:
         raise InputError(scene.path, "video", f"{scene.video_path.name} holds {len(frames)} readable frame(s); "
@@ -85,7 +87,7 @@ def measure_camera(scene: Scene) -> CameraMeasurements:
     if scene.video_path is None:
         return CameraMeasurements("the background (the only frame the scene gives)", background_noise,
                                   background_noise, background_compression, background_compression, blur)
-    frames = _video_frames(scene)
+    frames = video_frames(scene)
     noise = estimate_noise_video(frames, background, response)
     return CameraMeasurements(f"{len(frames)} frames of {scene.video_path.name}", noise, background_noise,
                               video_compression(frames, background, noise.model, response), background_compression,
