@@ -480,8 +480,7 @@ class SceneReference:
             band_channels=np.array([[float(np.median(linear[..., channel][cells])) for channel in range(3)]
                                     for cells in bands], np.float64).reshape(-1, 3),
             slope=np.append(np.diff(self.decode), self.decode[-1] - self.decode[-2]).astype(np.float32),
-            samples=samples)
-        self._derived.update(
+            samples=samples,
             luma=luma, luminance=luminance, window=window,
             conjugate=np.conj(np.fft.rfft2((luma - luma.mean()) * window)), spread=max(float(luma.std()), 1e-3),
             colour_cells=bright, colour_chroma=chroma,
