@@ -52,8 +52,9 @@ development machine, shared), and the runtime measures it while the networks run
    cells): the bound is on the measured shift. :meth:`SceneReference.register` measures a move to the whole pixel
    (up to :data:`REGISTRATION_BOUND_PX`), for the runtime to compensate; a frame it has moved back reads ``ok``.
 5. ``changed`` — a veil over more than :data:`VEIL_SHARE` of the light; a noise (the frame's fine energy beyond the
-   background's at its contrast, per pixel) over :data:`NOISE_CODES`; another view: the cells' coarse luminance
-   correlates under :data:`SAME_VIEW_CORRELATION` with the background's; or agreement: fewer than
+   background's at its contrast, per pixel) over :data:`NOISE_CODES`; another view: the structure of the cells' coarse
+   luminance (less its own blur: edges and texture, whatever light or veil lies over them) correlates under
+   :data:`SAME_VIEW_CORRELATION` with the background's; or agreement: fewer than
    :data:`CHANGED_AGREEMENT` of the cells match the background: their light is within :data:`MATCH_STOPS` of the
    frame's gain (step 2) and, between bright unclipped neighbours, their ratio to the background changes by at most
    :data:`STRUCTURE_STOPS` from cell to cell (the background's structure, whatever the exposure: a flat thing in
@@ -135,11 +136,14 @@ REGISTRATION_BOUND_PX = 24
 #: moved back by what they read and measured again; three rounds bring 24 px to within a pixel, a last search of the
 #: neighbouring whole pixels settles it.
 REGISTRATION_ROUNDS = 4
-#: A frame shows the background's view when its coarse luminance correlates with the background's at least this
-#: much (step 5; a registration holds when the view moved back does): real frames 0.92-0.96 (PETS09) and 0.75-0.90
-#: (TUD-Stadtmitte's crowds), noise 0.00, another camera's view -0.33. Exposure, contrast, a veil and a cell's
-#: worth of noise leave it; another view does not have it.
-SAME_VIEW_CORRELATION = 0.5
+#: A frame shows the background's view when its structure (the cells' coarse luminance less its own blur over
+#: :data:`STRUCTURE_SIGMA_CELLS`: edges and texture, not the light over them) correlates with the background's at
+#: least this much (step 5; a registration holds when the view moved back does): real frames 0.84-0.90 (PETS09),
+#: under COCO-C's fog 0.74 and more, zoom blur 0.37; another camera's view 0.05, the view mirrored 0.07, noise 0.00
+#: (docs/decisions/0017-bright-and-veiled-frames.md). The coarse luminance itself correlated 0.05 under a patchy fog.
+SAME_VIEW_CORRELATION = 0.25
+#: The blur (Gaussian sigma, in cells) the structure is taken from: fog, glare and vignetting vary over more.
+STRUCTURE_SIGMA_CELLS = 2.0
 #: The phase correlation's peak must reach this for a shift to count: real frames 0.33 and more, noise and another
 #: camera's view 0.10 at most.
 MOVED_PEAK = 0.15
@@ -262,6 +266,30 @@ def _coherence(luma: np.ndarray, energy: float) -> float:
     """Correlation of neighbouring cells, ``1 - mean squared difference / (2 variance)`` (0 for a flat frame)."""
     variance = float(luma.var())
     return 0.0 if variance <= 1e-6 else 1.0 - (energy / 2.0) / (2.0 * variance)
+
+
+def _smoothed(luma: np.ndarray, sigma: float = STRUCTURE_SIGMA_CELLS) -> np.ndarray:
+    """``luma`` blurred by a Gaussian of ``sigma`` cells (separable; edges mirrored)."""
+    radius = max(1, math.ceil(3 * sigma))
+    taps = np.exp(-0.5 * (np.arange(-radius, radius + 1) / sigma) ** 2).astype(np.float32)
+    for axis in (0, 1):
+        reach = min(radius, luma.shape[axis] - 1)
+        if reach < 1:
+            continue
+        weights = taps[radius - reach:radius + reach + 1] / taps[radius - reach:radius + reach + 1].sum()
+        rows = luma if axis == 0 else luma.T
+        padded = np.pad(rows, ((reach, reach), (0, 0)), mode="reflect")
+        blurred = weights[0] * padded[:rows.shape[0]]
+        for offset in range(1, len(weights)):
+            blurred += weights[offset] * padded[offset:offset + rows.shape[0]]
+        luma = blurred if axis == 0 else blurred.T
+    return luma
+
+
+def _structure(luma: np.ndarray) -> np.ndarray:
+    """The cells' luminance less its blur (:data:`STRUCTURE_SIGMA_CELLS`): what a veil, a glare or a change of light
+    over the view leaves of the scene, and another view does not have."""
+    return luma - _smoothed(luma)
 
 
 def _log_chroma(linear: np.ndarray) -> np.ndarray:
@@ -481,7 +509,7 @@ class SceneReference:
                                     for cells in bands], np.float64).reshape(-1, 3),
             slope=np.append(np.diff(self.decode), self.decode[-1] - self.decode[-2]).astype(np.float32),
             samples=samples,
-            luma=luma, luminance=luminance, window=window,
+            luma=luma, structure=_structure(luma), luminance=luminance, window=window,
             conjugate=np.conj(np.fft.rfft2((luma - luma.mean()) * window)), spread=max(float(luma.std()), 1e-3),
             colour_cells=bright, colour_chroma=chroma,
             colour_centre=centre, colour_variation=variation,
@@ -639,9 +667,10 @@ class SceneReference:
         return self._correlation(cell_means(frame, self.cell_px) @ LUMA)
 
     def _correlation(self, luma: np.ndarray) -> float:
-        """Correlation of the cells' coarse luminance with the background's."""
-        reference = self.derived["luma"]
-        frame_centred, reference_centred = luma - luma.mean(), reference - reference.mean()
+        """Correlation of the structure of the cells' coarse luminance (:func:`_structure`) with the background's."""
+        reference = self.derived["structure"]
+        frame = _structure(luma)
+        frame_centred, reference_centred = frame - frame.mean(), reference - reference.mean()
         scale = float(np.sqrt((frame_centred ** 2).sum() * (reference_centred ** 2).sum()))
         return float((frame_centred * reference_centred).sum()) / scale if scale > 0 else 0.0
 

@@ -468,10 +468,11 @@ def fit_range_of(camera_range: CameraRange | None, reference: SceneReference, ba
                  response: Response, frames: Sequence[np.ndarray] = ()) -> FitRange:
     """What a bundle compiled over ``camera_range`` sees, as the scene fitness reads frames: the ``background``
     ((H, W, 3) uint8, the reference's) rendered at the range's ends — its darkest and brightest exposures, each blur
-    at its most, its strongest white-balance casts, its most gain noise, its thickest veil, its densest snow — and
-    measured against ``reference``, with a margin beyond each (:data:`FIT_MARGIN_STOPS`,
-    :data:`FIT_SHARPNESS_MARGIN`, :data:`FIT_CAST_MARGIN_STOPS`, :data:`FIT_NOISE_MARGIN`, :data:`FIT_VEIL_MARGIN`,
-    :data:`FIT_AGREEMENT_MARGIN`); never tighter than the background's own look (:class:`FitRange`'s defaults), and
+    at its most, its strongest white-balance casts, its most gain noise, its veils (the thickest and half as thick,
+    each airlight, even and patchy), its densest snow — and measured against ``reference``, with a margin beyond
+    each (:data:`FIT_MARGIN_STOPS`, :data:`FIT_SHARPNESS_MARGIN`, :data:`FIT_CAST_MARGIN_STOPS`,
+    :data:`FIT_NOISE_MARGIN`, :data:`FIT_VEIL_MARGIN`, :data:`FIT_AGREEMENT_MARGIN`); never tighter than the
+    background's own look (:class:`FitRange`'s defaults), and
     the agreement never below :data:`FIT_AGREEMENT_FLOOR`. Monochrome frames are fit when the range has a night
     mode. Measured, not derived, because the fitness reads through coarse cells and clipping: the measurement is
     what a frame at the range's end will read. The range is the background's light varied; a camera's own ``frames``
@@ -504,20 +505,26 @@ def fit_range_of(camera_range: CameraRange | None, reference: SceneReference, ba
     sharpness = min((float(fitness.sharpness) for fitness in blurred), default=BLURRED_SHARPNESS / FIT_SHARPNESS_MARGIN)
     noisiest = measured(Condition(gain_noise=spec.gain_noise, shot_share=0.75)) \
         if spec.noisy > 0 and spec.gain_noise > 0 else None
-    veiled = measured(Condition(veil_transmission=spec.veil_transmission, airlight=AIRLIGHT_RATIO[1],
-                                veil_patchiness=VEIL_PATCHINESS)) \
-        if spec.veiled > 0 and spec.veil_transmission < 1 else None
+    # the veil's share is read through clipping and the fit's bands, so not always largest at the thickest veil
+    # (TUD-Stadtmitte's bright ground clips under its brightest airlight and reads no veil): its ends and midpoints,
+    # even and patchy
+    veiled = [measured(Condition(veil_transmission=transmission, airlight=airlight, veil_patchiness=patchiness))
+              for transmission in (spec.veil_transmission, (1.0 + spec.veil_transmission) / 2)
+              for airlight in (AIRLIGHT_RATIO[0], sum(AIRLIGHT_RATIO) / 2, AIRLIGHT_RATIO[1])
+              for patchiness in (0.0, VEIL_PATCHINESS)] \
+        if spec.veiled > 0 and spec.veil_transmission < 1 else []
     snowing = measured(Condition(precipitation=(PRECIPITATION_DENSITY[1], PRECIPITATION_FLAKE_PX[1],
                                                 PRECIPITATION_STREAK_PX[0], 0.0, PRECIPITATION_OPACITY[1]))) \
         if spec.precipitation > 0 else None
-    ends = [fitness for fitness in (*blurred, noisiest, veiled, snowing) if fitness is not None]
+    ends = [fitness for fitness in (*blurred, noisiest, *veiled, snowing) if fitness is not None]
     agreement = min(float(fitness.matching) for fitness in ends) * FIT_AGREEMENT_MARGIN if ends \
         else CHANGED_AGREEMENT
     return FitRange(dark_stops=round(max(DARK_STOPS, dark), 3),
                     overexposed_stops=round(max(OVEREXPOSED_STOPS, bright), 3),
                     blurred_sharpness=round(min(BLURRED_SHARPNESS, sharpness * FIT_SHARPNESS_MARGIN), 3),
                     colour_cast_stops=round(max(COLOUR_CAST_STOPS, cast), 3), monochrome=spec.night_ir > 0,
-                    veil_share=round(max(VEIL_SHARE, (veiled.veil + FIT_VEIL_MARGIN) if veiled else 0.0), 3),
+                    veil_share=round(max(VEIL_SHARE, max((fitness.veil + FIT_VEIL_MARGIN for fitness in veiled),
+                                                         default=0.0)), 3),
                     noise_codes=round(max(NOISE_CODES, noisiest.noise_codes * FIT_NOISE_MARGIN if noisiest else 0.0),
                                       2),
                     changed_agreement=round(min(CHANGED_AGREEMENT, max(FIT_AGREEMENT_FLOOR, agreement)), 3))
