@@ -59,11 +59,13 @@ development machine, shared), and the runtime measures it while the networks run
    frame's gain (step 2) and, between bright unclipped neighbours, their ratio to the background changes by at most
    :data:`STRUCTURE_STOPS` from cell to cell (the background's structure, whatever the exposure: a flat thing in
    front of textured ground does not match where its light happens to be the ground's), both widened by
-   :data:`NOISE_SIGMAS` of the cell's noise (a cell averages a few pixels of it). The view itself changed, over more
-   of it than a crowd covers. Or its colour did, on the matching cells
-   bright enough to have one (:data:`COLOUR_FLOOR`): less than :data:`COLOUR_LEFT` of the background's colour
-   variation is left (a monochrome night mode), or a cast of more than :data:`COLOUR_CAST_STOPS` (white balance):
-   the median of each cell's log chromaticity (R/G, B/G in linear light) minus the background's.
+   :data:`NOISE_SIGMAS` of the cell's noise (a cell averages a few pixels of it), while the view's structure
+   correlates under :data:`KEPT_VIEW_CORRELATION` (a patchy veil's light fails the cells' test where the structure
+   shows the whole view still there). The view itself changed, over more of it than a crowd covers. Or its colour
+   did, on the matching cells bright enough to have one (:data:`COLOUR_FLOOR`): less than :data:`COLOUR_LEFT` of the
+   background's colour variation is left (a monochrome night mode), or a cast of more than :data:`COLOUR_CAST_STOPS`
+   (white balance): the median of each cell's log chromaticity (R/G, B/G in linear light) minus the background's,
+   scaled by the colour left (a veil or snow takes colour away toward grey without a cast).
 
 The bounds of steps 2, 3 and 5 are the bundle's :class:`FitRange`: the constants below for a bundle compiled for the
 background's one look, wider for one compiled over the camera's range (a monochrome frame is then fit too, and a
@@ -142,6 +144,10 @@ REGISTRATION_ROUNDS = 4
 #: under COCO-C's fog 0.74 and more, zoom blur 0.37; another camera's view 0.05, the view mirrored 0.07, noise 0.00
 #: (docs/decisions/0017-bright-and-veiled-frames.md). The coarse luminance itself correlated 0.05 under a patchy fog.
 SAME_VIEW_CORRELATION = 0.25
+#: A view whose structure correlates with the background's at least this much is the background's over most of it,
+#: whatever its cells' light says (step 5): real frames 0.83-0.90 (PETS09) and 0.63-0.79 (TUD-Stadtmitte's crowds),
+#: COCO-C's fog 0.72 and more, PETS09 with half its view replaced by another 0.48-0.62, with 70 % of it 0.34-0.50.
+KEPT_VIEW_CORRELATION = 0.6
 #: The blur (Gaussian sigma, in cells) the structure is taken from: fog, glare and vignetting vary over more.
 STRUCTURE_SIGMA_CELLS = 2.0
 #: The phase correlation's peak must reach this for a shift to count: real frames 0.33 and more, noise and another
@@ -512,7 +518,7 @@ class SceneReference:
             luma=luma, structure=_structure(luma), luminance=luminance, window=window,
             conjugate=np.conj(np.fft.rfft2((luma - luma.mean()) * window)), spread=max(float(luma.std()), 1e-3),
             colour_cells=bright, colour_chroma=chroma,
-            colour_centre=centre, colour_variation=variation,
+            colour_variation=variation,
             clipped=clipped, fine_rows=np.maximum(self.fine_rows, MIN_FINE_ENERGY))
 
     def fitness(self, frame: np.ndarray, fit_range: FitRange = BACKGROUND_ONLY) -> FrameFitness:
@@ -550,6 +556,12 @@ class SceneReference:
         shift, peak = self._shift(luma)
 
         colour_left, cast = self._colour(scene, matching_cells & unclipped)
+        if veil > 0.0 and cast is not None:
+            # the veil's colour is a fit, and taking off too much of it inflates the scene's colours: a cast is one
+            # the frame reads with the veil taken off and as it is (a grey veil greys it, which is no cast)
+            as_is = self._colour(linear, matching_cells & unclipped)
+            if as_is[1] is not None and as_is[1] < cast:
+                colour_left, cast = as_is
 
         correlation = self._correlation(luma)
         state, reason = self._decide(fit_range, spread, coherence, exposure, sharpness, shift, peak, matching,
@@ -676,19 +688,21 @@ class SceneReference:
 
     def _colour(self, linear: np.ndarray, matching: np.ndarray) -> tuple[float | None, float | None]:
         """Colour left (None for a grey background) and cast, on the matching cells bright enough to have colour, of
-        every other row and column of cells (PETS09: 1 700 cells, plenty for a median, at a quarter of the cost)."""
+        every other row and column of cells (PETS09: 1 700 cells, plenty for a median, at a quarter of the cost).
+        A veil, fog or snow takes colour away toward grey (log chromaticity 0), which moves the colours' centre
+        without a white balance: the cast is measured against the background's chromaticities scaled by the colour
+        left (at most 1; docs/decisions/0017-bright-and-veiled-frames.md)."""
         reference = self.derived
         cells = matching[::COLOUR_STEP, ::COLOUR_STEP] & reference["colour_cells"]
         if np.count_nonzero(cells) < MIN_CELLS:
             return None, None
         chroma = _log_chroma(linear[::COLOUR_STEP, ::COLOUR_STEP][cells])
-        offset = np.median(chroma - reference["colour_chroma"][cells], axis=0)
-        cast = float(np.hypot(*offset))
+        background = reference["colour_chroma"][cells]
         if reference["colour_variation"] < MIN_COLOUR_VARIATION:
-            return None, cast
-        # the frame's colour variation around the background's centre moved by the cast (one median fewer)
-        variation = float(np.median(np.linalg.norm(chroma - (reference["colour_centre"] + offset), axis=1)))
-        return variation / reference["colour_variation"], cast
+            return None, float(np.hypot(*np.median(chroma - background, axis=0)))
+        centre = np.median(chroma, axis=0)
+        left = float(np.median(np.linalg.norm(chroma - centre, axis=1))) / reference["colour_variation"]
+        return left, float(np.hypot(*np.median(chroma - min(left, 1.0) * background, axis=0)))
 
     @staticmethod
     def _decide(fit: FitRange, spread: float, coherence: float, exposure: float, sharpness: float,
@@ -718,9 +732,10 @@ class SceneReference:
         if correlation < SAME_VIEW_CORRELATION:
             return CHANGED, f"the view correlates {correlation:.2f} with the background's (another view below " \
                             f"{SAME_VIEW_CORRELATION})"
-        if matching < fit.changed_agreement:
-            return CHANGED, f"{matching:.2f} of the view matches the background (changed below " \
-                            f"{fit.changed_agreement:.2f})"
+        if matching < fit.changed_agreement and correlation < KEPT_VIEW_CORRELATION:
+            return CHANGED, f"{matching:.2f} of the view matches the background and its structure correlates " \
+                            f"{correlation:.2f} (changed below {fit.changed_agreement:.2f} and " \
+                            f"{KEPT_VIEW_CORRELATION})"
         if colour_left is not None and colour_left < COLOUR_LEFT and not fit.monochrome:
             return CHANGED, f"{colour_left:.2f} of the background's colour left (monochrome; changed below " \
                             f"{COLOUR_LEFT})"
