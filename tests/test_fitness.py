@@ -20,6 +20,7 @@ from hypothesis import strategies as st
 
 from vc.calibration.response import Response
 from vc.cli.run import main as vc_run
+from vc.deploy import exposure
 from vc.deploy import fitness as fit
 from vc.deploy.bundle import MANIFEST, NO_REFERENCE, REFERENCE_MEMBER, load_bundle, sha256
 from vc.deploy.fitness import FrameFitness, SceneReference
@@ -102,9 +103,10 @@ HARD_CASES = {
     "white": (lambda image: np.full_like(image, 255), fit.COVERED),
     "uniform grey": (lambda image: np.full_like(image, 128), fit.COVERED),
     "noise": (lambda image: np.random.default_rng(0).integers(0, 256, image.shape, dtype=np.uint8), fit.COVERED),
-    "-2 stops": (lambda image: exposed(image, -2), fit.DARK),
+    # -2 and +2 stops are within a stop of its bounds (1.25): the runtime brings them back (test_light_within_...)
     "-3 stops": (lambda image: exposed(image, -3), fit.DARK),
-    "+2 stops": (lambda image: exposed(image, 2), fit.OVEREXPOSED),
+    "-4 stops": (lambda image: exposed(image, -4), fit.DARK),
+    "+3 stops": (lambda image: exposed(image, 3), fit.OVEREXPOSED),
     "white balance warm": (lambda image: gains(image, 1.25, 0.8), fit.CHANGED),
     "white balance cool": (lambda image: gains(image, 0.8, 1.25), fit.CHANGED),
     "IR monochrome": (monochrome, fit.CHANGED),
@@ -187,6 +189,50 @@ def test_a_fit_frame_keeps_its_people_unflagged(referenced_bundle, background):
         assert result.people and all(person.unfit is None and "unfit" not in person.to_dict()
                                      for person in result.people)
         assert result.reported(result.people) == result.people
+
+
+@pytest.mark.parametrize("stops", [-2.0, 2.0])
+def test_light_within_reach_beyond_the_range_is_brought_back_and_its_people_kept(referenced_bundle, background,
+                                                                                 stops):
+    with Runtime(referenced_bundle, threads=1) as runtime:
+        assert runtime.fitness(exposed(background, stops)).state in (fit.DARK, fit.OVEREXPOSED)
+        result = runtime.run(exposed(background, stops))
+        corrected = result.fitness.exposure_corrected_stops
+        assert result.fitness.state == fit.OK and not result.suppressed
+        assert corrected == pytest.approx(-stops, abs=0.1)
+        assert result.fitness.to_dict()["exposure_corrected_stops"] == pytest.approx(corrected, abs=1e-3)
+        assert result.fitness.exposure_stops == pytest.approx(0, abs=0.1)  # judged again, brought back
+        assert result.people and all(person.unfit is None for person in result.people)
+        # the networks ran on the frame brought back
+        brought_back = runtime.run(exposure.exposed(exposed(background, stops), DECODE, corrected))
+    assert sorted(person.box.tolist() for person in result.people) \
+        == sorted(person.box.tolist() for person in brought_back.people)
+
+
+def test_the_correction_is_kept_while_the_frames_need_it(referenced_bundle, background):
+    with Runtime(referenced_bundle, threads=1) as runtime:
+        first = runtime.run(exposed(background, 1.8)).fitness.exposure_corrected_stops
+        assert first == pytest.approx(-1.8, abs=0.1) and runtime.exposure_correction == first
+        following = runtime.run(exposed(background, 1.9))  # the camera's light drifts: the correction is kept
+        assert following.fitness.state == fit.OK and following.fitness.exposure_corrected_stops == first
+        assert following.fitness.exposure_stops == pytest.approx(0.1, abs=0.1)
+        back = runtime.run(background)  # within the range again: given to the networks as it is
+        assert back.fitness.state == fit.OK and back.fitness.exposure_corrected_stops is None
+        assert runtime.exposure_correction is None and back.fitness.exposure_stops == 0
+        assert runtime.run(exposed(background, -2.0)).fitness.exposure_corrected_stops == pytest.approx(2, abs=0.1)
+        assert runtime.run(exposed(background, 4.0)).fitness.state == fit.OVEREXPOSED  # beyond the reach
+        assert runtime.exposure_correction is None
+
+
+def test_light_beyond_the_range_over_a_view_changed_otherwise_stays_withheld(referenced_bundle, background):
+    frame = exposed(background, 1.75)
+    height, width = frame.shape[:2]
+    frame[:, : width * 2 // 5] = np.random.default_rng(5).integers(200, 256, (height, width * 2 // 5, 3))  # snow
+    with Runtime(referenced_bundle, threads=1) as runtime:
+        result = runtime.run(frame)
+    assert result.fitness.state == fit.OVEREXPOSED and result.suppressed
+    assert result.fitness.exposure_corrected_stops is None and "exposure_corrected_stops" not in \
+        result.fitness.to_dict()
 
 
 @pytest.mark.parametrize(("name", "frame"), [
@@ -323,19 +369,22 @@ def _replaced(folder: Path, data: bytes) -> None:
 def test_vc_run_writes_each_frames_fitness_and_counts_the_states(referenced_bundle, background, tmp_path, capsys):
     frames = tmp_path / "frames"
     for name, image in (("a-ok", background), ("b-black", np.zeros_like(background)),
-                        ("c-dark", exposed(background, -2)), ("d-ok", background)):
+                        ("c-dark", exposed(background, -3)), ("d-ok", background),
+                        ("e-bright", exposed(background, 1.8))):
         write_image(frames / f"{name}.png", image)
     output = tmp_path / "out"
     assert vc_run([str(referenced_bundle), str(frames), "-o", str(output), "--threads", "1", "--fps", "5",
                    "--quiet"]) == 0
     lines = [json.loads(line) for line in (output / "detections.jsonl").read_text().splitlines()]
-    assert [line["fitness"]["state"] for line in lines] == ["ok", "covered", "dark", "ok"]
+    assert [line["fitness"]["state"] for line in lines] == ["ok", "covered", "dark", "ok", "ok"]
     assert lines[1]["people"] == [] and lines[2]["people"] == []  # not even people a track carries
     assert lines[0]["people"] and "reason" not in lines[0]["fitness"] and "dark" in lines[2]["fitness"]["reason"]
+    assert lines[4]["people"] and lines[4]["fitness"]["exposure_corrected_stops"] == pytest.approx(-1.8, abs=0.1)
     summary = json.loads((output / "summary.json").read_text())["fitness"]
-    assert summary == {"states": {"ok": 2, "dark": 1, "covered": 1}, "unfit_frames": 2, "unfit": "suppress"}
-    assert "scene fitness: 2 ok, 1 dark, 1 covered; the people of the 2 unfit frame(s) withheld" in \
-        capsys.readouterr().out
+    assert summary == {"states": {"ok": 3, "dark": 1, "covered": 1}, "unfit_frames": 2, "unfit": "suppress",
+                       "exposure_corrected_frames": 1}
+    assert "scene fitness: 3 ok, 1 dark, 1 covered (1 brought back from light beyond the range); the people of " \
+           "the 2 unfit frame(s) withheld" in capsys.readouterr().out
     flagged = tmp_path / "flagged"
     assert vc_run([str(referenced_bundle), str(frames), "-o", str(flagged), "--threads", "1", "--no-tracking",
                    "--unfit", "flag", "--quiet"]) == 0
@@ -354,8 +403,9 @@ def test_vc_eval_counts_the_scored_frames_per_state(referenced_bundle, backgroun
     assert vc_eval([str(referenced_bundle), "--video", str(frames), "--gt", str(tmp_path / "gt.txt"), "-o",
                     str(tmp_path / "out"), "--no-hog", "--threads", "1", "--frames", "1:4", "--quiet"]) == 0
     fitness = json.loads((tmp_path / "out" / "metrics.json").read_text())["fitness"]
-    assert fitness == {"states": {"ok": 2, "dark": 1, "covered": 1}, "unfit_frames": 2, "unfit": "suppress"}
-    assert "scene fitness: 2 ok, 1 dark, 1 covered" in capsys.readouterr().out
+    assert fitness == {"states": {"ok": 2, "dark": 1, "covered": 1}, "unfit_frames": 2, "unfit": "suppress",
+                       "exposure_corrected_frames": 0}
+    assert "scene fitness: 2 ok, 1 dark, 1 covered;" in capsys.readouterr().out
     lines = [json.loads(line) for line in (tmp_path / "out" / "detections.jsonl").read_text().splitlines()]
     assert lines[1]["people"] == [] and lines[3]["people"] == []
 

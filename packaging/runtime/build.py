@@ -25,8 +25,8 @@ HERE = Path(__file__).resolve().parent
 RUNTIME_MODULES = (
     "__init__.py", "cores.py", "errors.py", "keypoints.py",
     "deploy/__init__.py", "deploy/areas.py", "deploy/boxes.py", "deploy/bundle.py", "deploy/decode.py",
-    "deploy/fitness.py", "deploy/frames.py", "deploy/heatmaps.py", "deploy/runtime.py", "deploy/signing.py",
-    "deploy/tracking.py",
+    "deploy/exposure.py", "deploy/fitness.py", "deploy/frames.py", "deploy/heatmaps.py", "deploy/runtime.py",
+    "deploy/signing.py", "deploy/tracking.py",
 )
 
 

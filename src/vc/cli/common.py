@@ -77,6 +77,8 @@ def fitness_line(fitness: dict) -> str:
         return f"  scene fitness unknown: {fitness['unknown_because']}"
     states = fitness["states"]
     counts = ", ".join(f"{count} {state}" for state, count in states.items()) or "no frames"
+    if fitness.get("exposure_corrected_frames"):
+        counts += f" ({fitness['exposure_corrected_frames']} brought back from light beyond the range)"
     if not fitness["unfit_frames"]:
         return f"  scene fitness: {counts}"
     kept = "withheld" if fitness["unfit"] == "suppress" else "kept, flagged (a covered frame's withheld)"

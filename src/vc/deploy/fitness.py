@@ -386,6 +386,7 @@ class FrameFitness:
     noise_codes: float | None = None  # per-pixel noise beyond the background's, 8-bit codes
     correlation: float | None = None  # of the coarse luminance with the background's
     registered_px: tuple[int, int] | None = None  # (x, y): the view's move the runtime compensated (None: none)
+    exposure_corrected_stops: float | None = None  # the exposure change the runtime gave the frame (vc.deploy.exposure)
 
     @property
     def unfit(self) -> bool:
@@ -409,6 +410,8 @@ class FrameFitness:
             result["shift_px"] = [round(float(value), 2) for value in self.shift_px]
         if self.registered_px is not None:
             result["registered_px"] = [int(value) for value in self.registered_px]
+        if self.exposure_corrected_stops is not None:
+            result["exposure_corrected_stops"] = round(float(self.exposure_corrected_stops), 3)
         return result
 
 

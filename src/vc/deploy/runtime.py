@@ -23,8 +23,13 @@ takes dusk, white-balance drift, night IR and a wet lens as fit, docs/decisions/
 moved (a bracket settling, a knocked camera) is registered against the background up to
 :data:`~vc.deploy.fitness.REGISTRATION_BOUND_PX` and compensated: each frame is moved back by the registration before
 the networks (the region map moves with the view) and the people moved forward again; the registration is kept from
-frame to frame and measured again when the fitness reads a move. :meth:`Runtime.run` returns the people with the
-fitness; ``runtime(frame)`` returns the people alone, as before, and keeps the fitness in ``runtime.last_fitness``.
+frame to frame and measured again when the fitness reads a move. A frame lit beyond the bundle's exposure range
+by at most :data:`~vc.deploy.exposure.REACH_STOPS` (sun on snow, a dome's glare) is brought back to the background's
+exposure before the networks when it then fits (:mod:`vc.deploy.exposure`); the correction is kept from frame to
+frame while the frames still need about as much, and the networks start on the frame under it while the fitness is
+measured: a camera in such light pays for a table lookup and a second fitness a frame, not for networks run twice.
+:meth:`Runtime.run` returns the people with the fitness; ``runtime(frame)`` returns the people alone, as before, and
+keeps the fitness in ``runtime.last_fitness``.
 """
 
 from __future__ import annotations
@@ -42,7 +47,8 @@ from vc.deploy.areas import ImageArea
 from vc.deploy.boxes import box_iou, foot_points
 from vc.deploy.bundle import NO_REFERENCE, Bundle, RegionEntry, load_bundle
 from vc.deploy.decode import UPRIGHT_PRIOR, DecodeConfig, DecodedPerson, UprightPrior, decode
-from vc.deploy.fitness import COVERED, MOVED, STATES, UNFIT_STATES, FrameFitness, translated
+from vc.deploy.exposure import BROUGHT_BACK_AGREEMENT, KEPT_CORRECTION_STOPS, correction_stops, exposed
+from vc.deploy.fitness import COVERED, DARK, MOVED, OVEREXPOSED, STATES, UNFIT_STATES, FrameFitness, translated
 from vc.errors import InputError
 
 #: Two people of different regions overlapping more than this are one person seen by both (module docstring); lower,
@@ -277,6 +283,9 @@ class Runtime:
         #: How far (x, y, whole frame pixels) the view has moved from the background's, compensated on every frame
         #: until the fitness reads another move (module docstring).
         self.registration: tuple[int, int] = (0, 0)
+        #: The stops the last frame, lit beyond the range, was brought back by: the next frame's networks start on
+        #: it corrected so (module docstring; None: the frames go to the networks with the light the camera gave).
+        self.exposure_correction: float | None = None
         self.bundle = bundle if isinstance(bundle, Bundle) else load_bundle(bundle, public_key)
         cores = usable_cores()
         if parallel_regions is None:
@@ -323,29 +332,61 @@ class Runtime:
             raise RuntimeError("this runtime was closed")
         self.check_frame(frame)
         seen = translated(frame, self.registration)
-        pending = self._start(seen)
+        # the networks start on a guess, the frame as the last one was shown to them, while the fitness is measured
+        guess = seen if self.exposure_correction is None \
+            else exposed(seen, self.bundle.reference.decode, self.exposure_correction)
+        pending = self._start(guess)
         fitness = self.fitness(seen)
         if fitness.state == MOVED and self.bundle.reference is not None:
             registration = self.bundle.reference.register(frame)
             if registration is not None:  # within the bound: the view is moved back and measured again
-                self._cancel(pending)
                 self.registration = registration
-                seen = translated(frame, registration)
-                pending = self._start(seen)
+                seen, guess = translated(frame, registration), None  # the guess showed the view where it was
                 fitness = self.fitness(seen)
+        brought_back = self._brought_back(seen, fitness, guess)
+        shown = seen
+        self.exposure_correction = None
+        if brought_back is not None:
+            shown, fitness, self.exposure_correction = brought_back
+            fitness = replace(fitness, exposure_corrected_stops=self.exposure_correction)
         if self.registration != (0, 0):
             fitness = replace(fitness, registered_px=self.registration)
         self.last_fitness = fitness
         if fitness.state == COVERED or (fitness.unfit and self.unfit == "suppress"):
             self._cancel(pending)
             return FrameResult([], fitness, suppressed=True)
-        per_region = ([runner.people(seen) for runner in self.runners] if pending is None
+        if shown is not guess:  # the guess was wrong: the networks run on the frame they are to see
+            self._cancel(pending)
+            pending = self._start(shown)
+        per_region = ([runner.people(shown) for runner in self.runners] if pending is None
                       else [future.result() for future in pending])
         people = sorted((person for found in per_region for person in found), key=lambda person: -person.score)
         result = FrameResult([moved_by(person, self.registration) for person in without_seam_duplicates(people)],
                              fitness)
         result.reported(result.people)  # flagged when unfit
         return result
+
+    def _brought_back(self, seen: np.ndarray, fitness: FrameFitness, guess: np.ndarray | None) -> tuple[
+            np.ndarray, FrameFitness, float] | None:
+        """``seen`` brought back to the background's exposure, its fitness and the stops it was changed by, when
+        ``fitness`` reads it ``dark`` or ``overexposed`` within reach of the bundle's range and the frame brought
+        back is fit and matches the background (:mod:`vc.deploy.exposure`); None otherwise: the frame stays as it
+        was judged. The last frame's correction (``guess`` is ``seen`` under it, when there was one) is kept while
+        it is within :data:`~vc.deploy.exposure.KEPT_CORRECTION_STOPS` of this frame's: the networks were started on
+        it."""
+        reference, fit_range = self.bundle.reference, self.bundle.fit_range
+        if fitness.state not in (DARK, OVEREXPOSED) or reference is None:
+            return None
+        stops = correction_stops(fitness.exposure_stops, fit_range.dark_stops, fit_range.overexposed_stops)
+        if stops is None:
+            return None
+        kept = guess is not None and self.exposure_correction is not None \
+            and abs(stops - self.exposure_correction) <= KEPT_CORRECTION_STOPS
+        frame, stops = (guess, self.exposure_correction) if kept else (exposed(seen, reference.decode, stops), stops)
+        judged = self.fitness(frame)
+        if judged.unfit or judged.matching < BROUGHT_BACK_AGREEMENT:
+            return None
+        return frame, judged, stops
 
     def _start(self, frame: np.ndarray) -> list[Future] | None:
         """The regions' networks started on ``frame`` in the pool (None without one: they run when needed)."""
@@ -358,12 +399,14 @@ class Runtime:
                 future.cancel()
             wait(pending)
 
-    def fitness_summary(self, states: Mapping[str, int]) -> dict:
+    def fitness_summary(self, states: Mapping[str, int], brought_back: int = 0) -> dict:
         """A run's scene fitness for its summary: frames per state (``states``, counted from each frame's
-        ``fitness.state``; in :data:`~vc.deploy.fitness.STATES` order), how many were unfit, the ``unfit`` setting
-        and, without a reference, why every frame is unknown."""
+        ``fitness.state``; in :data:`~vc.deploy.fitness.STATES` order), how many were unfit, the ``unfit`` setting,
+        how many were brought back from light beyond the range (``brought_back``, counted from each frame's
+        ``fitness.exposure_corrected_stops``) and, without a reference, why every frame is unknown."""
         return {"states": {state: states[state] for state in STATES if states.get(state)},
                 "unfit_frames": sum(states.get(state, 0) for state in UNFIT_STATES), "unfit": self.unfit,
+                "exposure_corrected_frames": brought_back,
                 **({} if self.bundle.reference is not None else {"unknown_because": NO_REFERENCE})}
 
     def __call__(self, frame: np.ndarray) -> list[Person]:
