@@ -9,7 +9,7 @@ brought back when it is then fit and matches the background on at least :data:`B
 cells, as a frame of the background's own look does. Exposure is all this corrects: a frame that was also changed
 otherwise (COCO-C's snow lifts PETS09 +1.4 stops and, brought back, matches on 0.44-0.47 of its cells, where its
 networks invent a dozen people) stays withheld. Only frames that would otherwise be withheld pay for it, a table
-lookup over the frame and a second fitness (a PETS09 frame brought back and run takes 1.6x one withheld): the frames
+lookup over the frame and a second fitness (a PETS09 frame brought back and run takes 1.7x one withheld): the frames
 within the range go to the networks as the camera gave them, since dividing their tone out buys too little for its
 time there (docs/decisions/0015-tone-normalisation.md). Clipped light stays clipped: a frame's white becomes the
 grey it would be under the gain; beyond the reach too much of the view is clipped or lost in the dark to bring back
