@@ -37,16 +37,16 @@ network, 1 800 steps, per-region models, fp32) with one knob changed (:data:`KNO
   (``TRAINING_COMPUTE``; about twice the images per second where the CPU has bf16 instructions), with training
   seeds 0, 1 and 2: whether the faster compile holds accuracy.
 
-Measured per point: held-out synthetic AP50 and PCKh@0.5 (mean over regions, on the point's own renders: across
-the knobs that change the renders, such as effects or regions, the held-out sets differ and real AP50 is the
-comparable number); real AP50 on the development frames through ``vc-eval`` when ``--dev-video`` is given (each
-frame on its own, as before tracking, with the tracked AP50 beside it; AP50 of the self-test's composed frames
-otherwise); runtime ms/frame, timed frame by frame in turn with the standard
-compile's bundle in one process, and its ratio to that bundle's time (the ratio is what to compare: the machines
-are shared; ``--no-runtime`` leaves the timing out, for a point that fits the time at hand only without compiling
-the standard one beside it); and compile time (render + train + export; a stage shared by several points,
-such as the base renders, counts its full time for each; a stage interrupted and resumed counts every attempt's
-time).
+Measured per point: held-out synthetic AP50 and PCKh@0.5 (mean over regions, on the point's own renders: across the
+knobs that change the renders, such as effects or regions, the held-out sets differ and real AP50 is the comparable
+number); real AP50 on the development frames through ``vc-eval`` when ``--dev-video`` is given (each frame on its own,
+as before tracking, with the tracked AP50 beside it, on all of them and on their choosing and confirming halves,
+:mod:`benchmarks.protocol`; AP50 of the self-test's composed frames otherwise); runtime ms/frame, timed frame by frame
+in turn with the standard compile's bundle in one process, and its ratio to that bundle's time (the ratio is what to
+compare: the machines are shared; ``--no-runtime`` leaves the timing out, for a point that fits the time at hand only
+without compiling the standard one beside it); and compile time (render + train + export; a stage shared by several
+points, such as the base renders, counts its full time for each; a stage interrupted and resumed counts every
+attempt's time).
 
 Work lives in ``--work``: renders, runs and bundles are keyed by the settings they depend on and reused; a finished
 point is never recomputed (nor measured twice: the standard compile is every knob's reference value), and an unfinished
@@ -82,6 +82,7 @@ import yaml  # noqa: E402
 from matplotlib.transforms import Bbox  # noqa: E402
 
 from benchmarks import results_folder  # noqa: E402
+from benchmarks.protocol import HALVES, frame_halves  # noqa: E402
 from vc.deploy.heatmaps import ANATOMICAL_CHANNELS, HEATMAP_CHANNELS  # noqa: E402
 from vc.io import atomic_path, write_json  # noqa: E402
 from vc.stages.config import PRESETS, TRAINING_COMPUTE  # noqa: E402
@@ -425,17 +426,29 @@ class Sweep:
         return self._timing_frames
 
     def real(self, bundle: Path, knob: str, value: str) -> dict:
+        """AP50 on the development frames, and on their choosing and confirming halves, each half run on its own
+        as a decision is measured (:mod:`benchmarks.protocol`)."""
         from vc.deploy.frames import FrameRange
+        from vc.evaluation.mot import read_mot_boxes
         from vc.evaluation.real_video import OURS, OURS_SINGLE_FRAME, EvaluationRequest, evaluate_bundle
 
-        request = EvaluationRequest(bundle=bundle, video=self.settings.dev_video, ground_truth=self.settings.dev_gt,
-                                    output=self.work / "evals" / knob / value.replace(" ", "_"),
-                                    frames=FrameRange.parse(self.settings.dev_frames), hog=False)
-        detectors = evaluate_bundle(request, show_progress=self.show_progress).metrics["detectors"]
+        output = self.work / "evals" / knob / value.replace(" ", "_")
+        frames = FrameRange.parse(self.settings.dev_frames)
+
+        def detectors(selection: FrameRange, folder: Path) -> dict:
+            request = EvaluationRequest(bundle=bundle, video=self.settings.dev_video,
+                                        ground_truth=self.settings.dev_gt, output=folder, frames=selection, hog=False)
+            return evaluate_bundle(request, show_progress=self.show_progress).metrics["detectors"]
+
+        whole = detectors(frames, output)
         # Each frame on its own, as every point before tracking was measured; tracked beside it.
-        single_frame = detectors[OURS_SINGLE_FRAME]
-        return {"real_ap50": single_frame["ap50"], "real_ap50_tracked": detectors[OURS]["ap50"],
-                "eval_runtime_ms": single_frame["ms_per_frame"]["median"]}
+        result = {"real_ap50": whole[OURS_SINGLE_FRAME]["ap50"], "real_ap50_tracked": whole[OURS]["ap50"],
+                  "eval_runtime_ms": whole[OURS_SINGLE_FRAME]["ms_per_frame"]["median"]}
+        for half, selection in frame_halves(frames, max(read_mot_boxes(self.settings.dev_gt))).items():
+            found = detectors(selection, output / half)
+            result |= {f"real_ap50_{half}": found[OURS_SINGLE_FRAME]["ap50"],
+                       f"real_ap50_tracked_{half}": found[OURS]["ap50"]}
+        return result
 
     def composed(self, scene: Path, renders: Path, bundle: Path) -> dict:
         from vc.deploy.runtime import Runtime
@@ -568,8 +581,10 @@ def distinct_compiles(results: dict[str, list[dict]]) -> list[dict]:
 #: A value measured with several training seeds ("winter, seed 1"): the setting, then the seed.
 SEEDED_VALUE = re.compile(r"^(?P<setting>.+), seed (?P<seed>\d+)$")
 #: What a setting measured with several seeds reports: each the mean over its seeds.
-SEED_MEAN_FIELDS = ("real_ap50", "real_ap50_tracked", "composed_ap50", "synthetic_ap50", "synthetic_pckh",
-                    "compile_minutes", "runtime_ms", "runtime_vs_base")
+SEED_MEAN_FIELDS = ("real_ap50", "real_ap50_tracked",
+                    *(f"real_ap50{kind}_{half}" for kind in ("", "_tracked") for half in HALVES),
+                    "composed_ap50", "synthetic_ap50", "synthetic_pckh", "compile_minutes", "runtime_ms",
+                    "runtime_vs_base")
 
 
 def choices(results: dict[str, list[dict]]) -> list[dict]:
@@ -681,14 +696,18 @@ def _report(results: dict[str, list[dict]], out: Path) -> None:
     out.mkdir(parents=True, exist_ok=True)
     write_json(out / "accuracy_vs_time.json", results)
     lines = ["| knob | value | heat maps | photometry | compile min | synthetic AP50 | synthetic PCKh | real AP50 | "
-             "runtime ms/frame | runtime / standard |", "|---|---|---|---|---|---|---|---|---|---|"]
+             "real AP50 choosing / confirming | runtime ms/frame | runtime / standard |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
     for knob, points in results.items():
         for p in points:
             real = f"{p['real_ap50']:.3f}" if "real_ap50" in p else "—"
+            halves = " / ".join(f"{p[f'real_ap50_{half}']:.3f}" for half in HALVES) \
+                if all(f"real_ap50_{half}" in p for half in HALVES) else "—"
             ms = f"{p['runtime_ms']:.1f}" if "runtime_ms" in p else "—"
             ratio = f"{p['runtime_vs_base']:.2f}" if "runtime_vs_base" in p else "—"
             lines.append(f"| {knob} | {p['value']} | {_layout(p)} | {_photometry(p)} | {p['compile_minutes']:.1f} | "
-                         f"{p['synthetic_ap50']:.3f} | {p['synthetic_pckh']:.3f} | {real} | {ms} | {ratio} |")
+                         f"{p['synthetic_ap50']:.3f} | {p['synthetic_pckh']:.3f} | {real} | {halves} | {ms} | "
+                         f"{ratio} |")
         _plot(knob, points, out)
     _plot_overview(results, out)
     lines += ["", *_overview_lines(results)]

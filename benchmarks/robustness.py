@@ -31,7 +31,8 @@ AP50 over its conditions: for COCO-C over corruptions and severities) and rPC (m
 reports on it under every condition (truth: nobody), counted for the bundle at its operating point — the score threshold
 of best F1 on this run's clean frames, as ``vc-eval`` defines it (:func:`vc.evaluation.misses.operating_point`) — and as
 it reports them (every person above the bundle's own centre threshold: what ``vc-run`` writes), and for the external
-model at score >= :data:`EXTERNAL_SCORE` (Ultralytics' default confidence). Writes ``robustness.json``,
+model at score >= :data:`EXTERNAL_SCORE` (Ultralytics' default confidence). AP50, mPC and rPC are also reported on
+each half of the frames, the choosing and the confirming (:mod:`benchmarks.protocol`). Writes ``robustness.json``,
 ``robustness.md`` and ``robustness.png`` to ``--out`` (``benchmarks/results/robustness/``), naming the machine, the
 bundle, the frames and the command. """
 
@@ -58,6 +59,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from benchmarks import display_path, results_folder  # noqa: E402
+from benchmarks.protocol import positions_by_half  # noqa: E402
 from vc.calibration.materials import luminance  # noqa: E402
 from vc.calibration.response import Response  # noqa: E402
 from vc.cores import cpu_facts, usable_cores  # noqa: E402
@@ -336,9 +338,11 @@ def measure(condition: Condition, frames: Sequence[Frame], truth: dict[int, np.n
     return result
 
 
-def summarise(measurements: Sequence[Measurement], external: str | None) -> dict:
+def summarise(measurements: Sequence[Measurement], external: str | None,
+              halves: dict[str, list[int]] | None = None) -> dict:
     """The report's numbers: per condition AP50 and false people, per family mPC, rPC and false people per frame,
-    the operating points they were counted at."""
+    the operating points they were counted at; with ``halves`` (each half's positions among the frames:
+    :func:`benchmarks.protocol.positions_by_half`) AP50, mPC and rPC on each half too."""
     clean = next(m for m in measurements if m.condition.family == CLEAN)
     point = operating_point(clean.images[OURS]) if clean.images.get(OURS) else None
     threshold = None if point is None else point.threshold
@@ -351,6 +355,9 @@ def summarise(measurements: Sequence[Measurement], external: str | None) -> dict
                "parameters": m.condition.parameters}
         if not m.condition.background_only and m.images.get(OURS):
             row["ap50"] = {name: round(evaluate(m.images[name]).ap50, 4) for name in detectors}
+            if halves:
+                row["ap50_by_half"] = {half: {name: round(evaluate([m.images[name][k] for k in positions]).ap50, 4)
+                                              for name in detectors} for half, positions in halves.items()}
         if m.background_scores:
             row["false_people"] = {
                 AT_OPERATING_POINT: int(np.sum(m.background_scores[OURS] >= (threshold or 0.0))),
@@ -376,6 +383,8 @@ def summarise(measurements: Sequence[Measurement], external: str | None) -> dict
             summary["mPC"] = {name: round(mpc, 4) for name, (mpc, _) in pairs.items()}
             summary["rPC"] = {name: None if rpc is None else round(rpc, 4) for name, (_, rpc) in pairs.items()}
             summary["min_ap50"] = {name: min(row["ap50"][name] for row in scored) for name in detectors}
+            if halves:
+                summary["by_half"] = {half: _per_half_pc(scored, clean_row, half, detectors) for half in halves}
         on_background = [row for row in members if "false_people" in row]
         if on_background:
             summary["false_people_per_frame"] = {
@@ -383,6 +392,13 @@ def summarise(measurements: Sequence[Measurement], external: str | None) -> dict
                 for key in on_background[0]["false_people"]}
         families[family] = summary
     return {"operating_points": thresholds, "conditions": rows, "families": families}
+
+
+def _per_half_pc(scored: list[dict], clean_row: dict, half: str, detectors: list[str]) -> dict:
+    pairs = {name: performance_under_corruption([row["ap50_by_half"][half][name] for row in scored],
+                                                clean_row["ap50_by_half"][half][name]) for name in detectors}
+    return {"mPC": {name: round(mpc, 4) for name, (mpc, _) in pairs.items()},
+            "rPC": {name: None if rpc is None else round(rpc, 4) for name, (_, rpc) in pairs.items()}}
 
 
 # ---------------------------------------------------------------------------------------------------- the report
@@ -425,6 +441,7 @@ def markdown(report: dict) -> str:
         lines.append(f"| {family} | {summary['conditions']} | "
                      + " | ".join(f"{_fmt(mpc.get(name))} | {_fmt(rpc.get(name))}" for name in detectors)
                      + " | " + " | ".join(_fmt(people.get(key), 2) for key in counts) + " |")
+    lines += _halves_lines(report)
     lines += ["", "## Per condition", "",
               "| condition | family | " + " | ".join(f"AP50 {name}" for name in detectors) + " | "
               + " | ".join(f"false people: {key}" for key in counts) + " | scene fitness of the frames |",
@@ -437,6 +454,29 @@ def markdown(report: dict) -> str:
                      + " | ".join(str(people.get(key, "—")) for key in counts) + f" | {states} |")
     lines += ["", "![AP50 and false people per condition](robustness.png)", ""]
     return "\n".join(lines)
+
+
+def _halves_lines(report: dict) -> list[str]:
+    """The choosing and confirming halves' clean AP50, mPC and rPC (docs/evaluation.md#choosing-and-confirming)."""
+    halves = report.get("halves")
+    clean = next(row for row in report["conditions"] if row["family"] == CLEAN)
+    if not halves or "ap50_by_half" not in clean:
+        return []
+    detectors, families = report["detectors"], [f for f, s in report["families"].items() if "by_half" in s]
+    lines = ["", "## Choosing and confirming halves", "",
+             "A setting is chosen on the first half of the frames and kept only if it holds on the second "
+             "(docs/evaluation.md).", "",
+             "| half | frames | " + " | ".join(f"clean AP50 {name}" for name in detectors) + " | "
+             + " | ".join(f"{family} {kind} {name}" for family in families for name in detectors
+                          for kind in ("mPC", "rPC")) + " |",
+             "|---|---|" + "---|" * (len(detectors) * (1 + 2 * len(families)))]
+    for half, frames in halves.items():
+        by_half = [report["families"][family]["by_half"][half] for family in families]
+        lines.append(f"| {half} | {frames['first']}–{frames['last']} ({frames['count']}) | "
+                     + " | ".join(_fmt(clean["ap50_by_half"][half][name]) for name in detectors) + " | "
+                     + " | ".join(f"{_fmt(summary['mPC'][name])} | {_fmt(summary['rPC'][name])}"
+                                  for summary in by_half for name in detectors) + " |")
+    return lines
 
 
 def _figure_columns(report: dict) -> list[tuple[str, list[dict]]]:
@@ -633,7 +673,9 @@ def run(args: RobustnessRequest) -> dict:
             for condition in conditions:
                 progress.set_postfix_str(condition.key)
                 measurements.append(measure(condition, selected, truth, background, detectors, progress))
-    summary = summarise(measurements, external)
+    numbers = [frame.number for frame in selected]
+    halves = positions_by_half(numbers, frames.first, frames.last or numbers[-1]) if numbers else {}
+    summary = summarise(measurements, external, halves if all(halves.values()) else None)
     severities = sorted(set(args.severities))
     return {"benchmark": "robustness", "machine": cpu_facts()[0], "threads": args.threads or usable_cores(),
             "command": _command(args, frames), "bundle": _bundle_facts(args.bundle, bundle.manifest),
@@ -641,6 +683,8 @@ def run(args: RobustnessRequest) -> dict:
             "centre_thresholds": sorted({entry.decode.centre_threshold for entry in bundle.regions}),
             "video": display_path(args.video), "ground_truth": display_path(args.gt),
             "frames": {"first": frames.first, "last": frames.last, "step": frames.step, "count": len(selected)},
+            "halves": {half: {"first": numbers[positions[0]], "last": numbers[positions[-1]],
+                              "count": len(positions)} for half, positions in halves.items() if positions},
             "people": int(sum(len(truth.get(frame.number, ())) for frame in selected)),
             "background": None if args.background is None else display_path(args.background),
             "external": external, "detectors": list(detectors), "imagecorruptions": imagecorruptions_version(),
@@ -669,6 +713,14 @@ def report_lines(report: dict) -> list[str]:
             if "mPC" in summary:
                 line += f"; {family} mPC {_fmt(summary['mPC'][name])} rPC {_fmt(summary['rPC'][name])}"
         lines.append(line)
+    for half, frames in report.get("halves", {}).items():
+        if "ap50_by_half" in clean:
+            lines.append(f"  {half} half, frames {frames['first']}-{frames['last']}: clean AP50 "
+                         + ", ".join(f"{name} {_fmt(clean['ap50_by_half'][half][name])}"
+                                     for name in report["detectors"])
+                         + "".join(f"; {family} rPC " + ", ".join(_fmt(summary["by_half"][half]["rPC"][name])
+                                                                  for name in report["detectors"])
+                                   for family, summary in report["families"].items() if "by_half" in summary))
     for family, summary in report["families"].items():
         if "false_people_per_frame" in summary:
             lines.append(f"  false people per frame on the background, {family}: "

@@ -23,7 +23,9 @@ from benchmarks import effects_ablation as ablation
 from benchmarks import render_throughput as throughput
 from benchmarks import runtime_interleaved as interleaved
 from benchmarks import runtime_latency as latency
+from benchmarks.protocol import CHOOSING, CONFIRMING, frame_halves, positions_by_half
 from vc.deploy.bundle import load_bundle
+from vc.deploy.frames import FrameRange
 from vc.scenes.loader import load_scene
 from vc.scenes.regions import plan_regions
 
@@ -127,15 +129,26 @@ def test_the_report_tables_and_plots_each_knob(tmp_path):
     """A point without the paired runtime (measured before it existed, or with ``--no-runtime``) is tabled with a
     dash and left off the runtime plot, not a crash."""
     untimed = {name: value for name, value in _compiled("1000", 30.0, 0.95, None).items() if name != "runtime_ms"}
-    sweep_module._report({"width": [_compiled("64", 80.0, 0.97, None), _compiled("16", 37.4, 0.96, 0.67)],
-                          "samples": [untimed]}, tmp_path)
+    halved = _compiled("16", 37.4, 0.96, 0.67) | {"real_ap50_choosing": 0.84, "real_ap50_confirming": 0.881}
+    sweep_module._report({"width": [_compiled("64", 80.0, 0.97, None), halved], "samples": [untimed]}, tmp_path)
     table = (tmp_path / "accuracy_vs_time.md").read_text().splitlines()
-    assert table[2] == "| samples | 1000 | 27 | off | 30.0 | 0.950 | 0.600 | 0.850 | — | — |"
-    assert table[3] == "| width | 64 | 27 | off | 80.0 | 0.970 | 0.600 | 0.870 | 40.0 | — |"
-    assert table[4] == "| width | 16 | 27 | off | 37.4 | 0.960 | 0.600 | 0.860 | 40.0 | 0.67 |"
+    assert table[2] == "| samples | 1000 | 27 | off | 30.0 | 0.950 | 0.600 | 0.850 | — | — | — |"
+    assert table[3] == "| width | 64 | 27 | off | 80.0 | 0.970 | 0.600 | 0.870 | — | 40.0 | — |"
+    assert table[4] == "| width | 16 | 27 | off | 37.4 | 0.960 | 0.600 | 0.860 | 0.840 / 0.881 | 40.0 | 0.67 |"
     assert (tmp_path / "accuracy_vs_time_width.png").stat().st_size > 10_000
     assert table[-1].startswith("Not measured yet: spp 4, 16, 64; effects on, off;")
     assert "width 32" in table[-1]
+
+
+def test_the_choosing_and_confirming_halves_split_a_range_at_its_middle():
+    assert frame_halves(FrameRange(1, 400, 5), 795) == {CHOOSING: FrameRange(1, 200, 5),
+                                                         CONFIRMING: FrameRange(201, 400, 5)}
+    assert frame_halves(FrameRange(1, None, 1), 179) == {CHOOSING: FrameRange(1, 90, 1),
+                                                          CONFIRMING: FrameRange(91, 179, 1)}
+    # the confirming half starts on the selection's own grid: 3, 7, 11 | 15, 19
+    assert frame_halves(FrameRange(3, 20, 4), 400) == {CHOOSING: FrameRange(3, 11, 4),
+                                                        CONFIRMING: FrameRange(15, 20, 4)}
+    assert positions_by_half([1, 11, 191, 200, 201, 391], 1, 400) == {CHOOSING: [0, 1, 2, 3], CONFIRMING: [4, 5]}
 
 
 def _as_compiled(knob: str, value: str, ap50: float, runtime_vs_base: float, minutes: float = 54.0) -> dict:

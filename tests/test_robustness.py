@@ -215,8 +215,15 @@ def test_a_run_on_the_test_bundle_reports_every_condition(bundle, tmp_path, caps
     assert rows["nudge"]["ap50"][yolo] == 0.0
     assert all(row["false_people"][f"{yolo} at score >= 0.25"] == 1 for row in rows.values())
     assert report["families"][CAMERA_LIFE]["rPC"][yolo] == pytest.approx(7 / 8)
+    # the choosing half is frames 1-2 of 1-3, the confirming frame 3; the nudge loses the constant model both
+    assert report["halves"] == {"choosing": {"first": 1, "last": 2, "count": 2},
+                                "confirming": {"first": 3, "last": 3, "count": 1}}
+    assert rows["nudge"]["ap50_by_half"]["confirming"][yolo] == 0.0
+    assert all(report["families"][CAMERA_LIFE]["by_half"][half]["rPC"][yolo] == pytest.approx(7 / 8)
+               for half in ("choosing", "confirming"))
     markdown = (tmp_path / "first" / "robustness.md").read_text()
     assert all(row["label"] in markdown for row in report["conditions"]) and report["machine"] in markdown
+    assert "## Choosing and confirming halves" in markdown and "| confirming | 3–3 (1) |" in markdown
     assert (tmp_path / "first" / "robustness.png").stat().st_size > 0
     assert "robustness: 3 frames" in capsys.readouterr().out
     # a rerun changes the frames to the same bytes: the same numbers (every annotated frame, 1-3, by default)
