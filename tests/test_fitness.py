@@ -747,7 +747,10 @@ def test_a_nudged_view_is_registered_and_its_people_reported_where_they_stand(re
         assert nudged.fitness.state == fit.OK and nudged.fitness.registered_px == (6, -3)
         assert nudged.fitness.to_dict()["registered_px"] == [6, -3] and runtime.registration == (6, -3)
         assert len(nudged.people) == len(still.people)
-        expected = np.array(sorted((person.box + [6, -3, 6, -3]).tolist() for person in still.people))
+        # where they stand, as the camera shows them: boxes clipped to the frame (0020) after the move
+        height, width = frame.shape[:2]
+        expected = np.array(sorted(np.clip(person.box + [6, -3, 6, -3], -0.5, [width - 0.5, height - 0.5] * 2).tolist()
+                                   for person in still.people))
         assert np.allclose(sorted(person.box.tolist() for person in nudged.people), expected, atol=1.0)
         assert runtime.run(shifted(frame, 6, -3)).fitness.registered_px == (6, -3)  # kept for the next frame
         assert runtime.run(frame).fitness.registered_px is None and runtime.registration == (0, 0)  # moved back

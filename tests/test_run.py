@@ -169,6 +169,19 @@ def test_a_region_keeps_people_just_across_a_seam_but_not_beyond_the_outer_edge(
         [False, True, True, False, False]
 
 
+def test_a_person_the_frame_cuts_is_boxed_as_the_camera_shows_them() -> None:
+    """TUD-Stadtmitte's annotators box a person walking in at the right edge up to the edge; a decoded box laid at
+    the person's expected width reaches past it and is clipped to the frame's outer edges, not moved."""
+    from vc.deploy.runtime import within_frame
+
+    cut = _person_at("r0", 0.8, [610.0, 100.0, 671.0, 330.0])
+    assert within_frame(cut, (640, 480)) is cut and cut.box.tolist() == [610.0, 100.0, 639.5, 330.0]
+    corner = within_frame(_person_at("r0", 0.8, [-12.0, -3.0, 20.0, 490.0]), (640, 480))
+    assert corner.box.tolist() == [-0.5, -0.5, 20.0, 479.5]
+    inside = [100.0, 100.0, 140.0, 200.0]
+    assert within_frame(_person_at("r0", 0.8, inside), (640, 480)).box.tolist() == inside
+
+
 def test_at_a_seam_the_owning_regions_person_wins_over_one_kept_across_it() -> None:
     """The region that kept a person across its seam gives way to the region whose area the feet are in, even
     when its score is higher; the people come back strongest first."""

@@ -361,8 +361,8 @@ class Runtime:
         per_region = ([runner.people(shown) for runner in self.runners] if pending is None
                       else [future.result() for future in pending])
         people = sorted((person for found in per_region for person in found), key=lambda person: -person.score)
-        result = FrameResult([moved_by(person, self.registration) for person in without_seam_duplicates(people)],
-                             fitness)
+        result = FrameResult([within_frame(moved_by(person, self.registration), self.bundle.frame_size)
+                              for person in without_seam_duplicates(people)], fitness)
         result.reported(result.people)  # flagged when unfit
         return result
 
@@ -422,6 +422,18 @@ def moved_by(person: Person, shift: tuple[int, int]) -> Person:
         person.box = person.box + np.array([dx, dy, dx, dy], person.box.dtype)
         person.keypoints = person.keypoints + np.array([dx, dy, 0], person.keypoints.dtype)
         person.mask_origin = (person.mask_origin[0] + dx, person.mask_origin[1] + dy)
+    return person
+
+
+def within_frame(person: Person, frame_size: tuple[int, int]) -> Person:
+    """``person`` with the box clipped to the frame of ``frame_size`` (width, height; the same object, changed). A
+    person the frame's edge cuts is boxed as the camera shows them, as annotators draw them: the decoded box, laid
+    around the centre at the person's expected width, reaches past the edge
+    (docs/decisions/0020-people-cut-by-the-frame.md)."""
+    width, height = frame_size
+    x0, y0, x1, y1 = person.box
+    person.box = np.array([min(max(x0, -0.5), width - 0.5), min(max(y0, -0.5), height - 0.5),
+                           min(max(x1, -0.5), width - 0.5), min(max(y1, -0.5), height - 0.5)], person.box.dtype)
     return person
 
 
