@@ -177,6 +177,23 @@ def test_only_confirmed_tracks_lost_briefly_are_carried():
     assert _seen_then_lost(Tracker(TrackingConfig(coast_s=0.0)), seen=5, lost=1)[-1] == []
 
 
+def test_given_the_frame_a_person_carried_out_of_it_walked_out_and_one_at_its_edge_is_clipped():
+    """A person walking right at 50 px/s, seen at x 300-320 and then lost: 0.2 s later their track puts their feet
+    at x 330, their box at 310-350."""
+    def carried(width: int | None) -> list[Person]:
+        tracker = Tracker(TrackingConfig(appearance_weight=0.0))
+        frame = None if width is None else np.zeros((480, width, 3), np.uint8)
+        people = [tracker.update([_person(300.0 + 5.0 * k, 300.0, 0.5)] if k < 5 else [], k / 10.0, frame)
+                  for k in range(7)]
+        return people[-1]
+
+    (unclipped,) = carried(None)  # without the frame nothing is known of its edges
+    assert unclipped.coasted and unclipped.box[2] == pytest.approx(350.0)
+    (at_edge,) = carried(340)  # feet inside: boxed as the camera shows them
+    assert at_edge.coasted and at_edge.box[[0, 2]].tolist() == pytest.approx([310.0, 339.5])
+    assert carried(325) == []  # feet beyond the edge: walked out
+
+
 def test_a_carried_box_on_top_of_a_person_seen_is_not_reported_twice():
     def last_frame(shift_px: float) -> list[Person]:
         # A gate of 1 % of a height: the person seen again a little aside starts a new track, and the old track

@@ -58,7 +58,9 @@ the time unseen: precision pays little, as the score ranks it below what is seen
 5. Carried: a track of at least ``coast_min_observations`` unseen for at most ``coast_s`` is reported
    (``coasted``) with its last box and keypoints moved by the least-squares velocity of its box over the window,
    its score times ``exp(-unseen / coast_score_decay_s)`` and no mask, unless that box overlaps a person seen in
-   this frame by more than ``coast_duplicate_iou`` (the same person, under a new track).
+   this frame by more than ``coast_duplicate_iou`` (the same person, under a new track). Given the frame, one
+   whose feet that velocity took out of it walked out and is not reported; the others are clipped to it
+   (:func:`kept_to_frame`).
 """
 
 from __future__ import annotations
@@ -70,7 +72,7 @@ import numpy as np
 from vc.deploy.boxes import box_iou, foot_points
 from vc.deploy.frames import FrameSource
 from vc.deploy.heatmaps import PAIRS, swap_pairs
-from vc.deploy.runtime import Person
+from vc.deploy.runtime import Person, within_frame
 from vc.keypoints import COCO_KEYPOINTS
 
 #: How far the nose and the eyes stand ahead of the ears' midpoint, in fractions of the person's height: the
@@ -228,7 +230,7 @@ class Tracker:
 
     def update(self, people: list[Person], time_s: float, frame: np.ndarray | None = None) -> list[Person]:
         """``frame`` (H, W, 3), the one the people were found in: with ``config.appearance_weight``, their
-        clothing colours weigh in the association."""
+        clothing colours weigh in the association, and people carried out of it are not reported."""
         if self.last_time is not None and time_s <= self.last_time:
             raise ValueError(f"frames must come in time order: {time_s} s after {self.last_time} s")
         self.last_time = time_s
@@ -255,7 +257,8 @@ class Tracker:
             result.append(track.last)
         seen = {id(track) for _, track in matched}
         boxes = np.array([p.box for p in result], np.float64).reshape(-1, 4)
-        return result + self._carried([t for t in self.tracks if id(t) not in seen], boxes, time_s)
+        carried = self._carried([t for t in self.tracks if id(t) not in seen], boxes, time_s)
+        return result + (carried if frame is None else kept_to_frame(carried, (frame.shape[1], frame.shape[0])))
 
     def _associate(self, people: list[Person], tracks: list[_Track], time_s: float, start_new: bool,
                    looks: dict[int, np.ndarray | None], predicted: dict[int, np.ndarray]) -> list[_Track | None]:
@@ -327,6 +330,26 @@ class Tracker:
                                    box=box, keypoints=keypoints, mask=np.zeros((0, 0), bool),
                                    mask_origin=(0, 0), coasted=True))
         return carried
+
+
+#: A carried person's feet may lie this far below the frame's bottom edge (box heights) and still be in view: a near
+#: person's feet are cut by it, and their box, clipped to the frame, ends there.
+FEET_BELOW_FRAME_HEIGHTS = 0.1
+
+
+def kept_to_frame(carried: list[Person], frame_size: tuple[int, int]) -> list[Person]:
+    """``carried`` people (step 5) in the frame of ``frame_size`` (width, height): one whose feet have left it
+    (beyond its sides, or below its bottom by more than :data:`FEET_BELOW_FRAME_HEIGHTS`) walked out and is dropped;
+    the others' boxes are clipped to it, as the runtime clips the people it finds
+    (docs/decisions/0020-people-cut-by-the-frame.md)."""
+    width, height = frame_size
+    kept = []
+    for person in carried:
+        x0, y0, x1, y1 = person.box
+        feet_x = (x0 + x1) / 2
+        if -0.5 <= feet_x <= width - 0.5 and y1 <= height - 0.5 + FEET_BELOW_FRAME_HEIGHTS * (y1 - y0):
+            kept.append(within_frame(person, frame_size))
+    return kept
 
 
 def box_velocity(times: np.ndarray, boxes: np.ndarray) -> np.ndarray:
