@@ -82,7 +82,7 @@ import yaml  # noqa: E402
 from matplotlib.transforms import Bbox  # noqa: E402
 
 from benchmarks import results_folder  # noqa: E402
-from benchmarks.protocol import HALVES, frame_halves  # noqa: E402
+from benchmarks.protocol import HALVES, frame_halves, halves_cell  # noqa: E402
 from vc.deploy.heatmaps import ANATOMICAL_CHANNELS, HEATMAP_CHANNELS  # noqa: E402
 from vc.io import atomic_path, write_json  # noqa: E402
 from vc.stages.config import PRESETS, TRAINING_COMPUTE  # noqa: E402
@@ -701,8 +701,7 @@ def _report(results: dict[str, list[dict]], out: Path) -> None:
     for knob, points in results.items():
         for p in points:
             real = f"{p['real_ap50']:.3f}" if "real_ap50" in p else "—"
-            halves = " / ".join(f"{p[f'real_ap50_{half}']:.3f}" for half in HALVES) \
-                if all(f"real_ap50_{half}" in p for half in HALVES) else "—"
+            halves = halves_cell(p)
             ms = f"{p['runtime_ms']:.1f}" if "runtime_ms" in p else "—"
             ratio = f"{p['runtime_vs_base']:.2f}" if "runtime_vs_base" in p else "—"
             lines.append(f"| {knob} | {p['value']} | {_layout(p)} | {_photometry(p)} | {p['compile_minutes']:.1f} | "

@@ -33,3 +33,10 @@ def positions_by_half(numbers: Sequence[int], first: int, last: int) -> dict[str
     split = middle(first, last)
     return {CHOOSING: [k for k, number in enumerate(numbers) if number <= split],
             CONFIRMING: [k for k, number in enumerate(numbers) if number > split]}
+
+
+def halves_cell(point: dict, field: str = "real_ap50") -> str:
+    """A report's table cell: ``point``'s ``field`` on the choosing and the confirming half (``FIELD_choosing``,
+    ``FIELD_confirming``), or a dash where it was measured before the halves were."""
+    values = [point.get(f"{field}_{half}") for half in HALVES]
+    return " / ".join(f"{value:.3f}" for value in values) if None not in values else "—"

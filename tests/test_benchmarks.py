@@ -23,7 +23,7 @@ from benchmarks import effects_ablation as ablation
 from benchmarks import render_throughput as throughput
 from benchmarks import runtime_interleaved as interleaved
 from benchmarks import runtime_latency as latency
-from benchmarks.protocol import CHOOSING, CONFIRMING, frame_halves, positions_by_half
+from benchmarks.protocol import CHOOSING, CONFIRMING, frame_halves, halves_cell, positions_by_half
 from vc.deploy.bundle import load_bundle
 from vc.deploy.frames import FrameRange
 from vc.scenes.loader import load_scene
@@ -149,6 +149,8 @@ def test_the_choosing_and_confirming_halves_split_a_range_at_its_middle():
     assert frame_halves(FrameRange(3, 20, 4), 400) == {CHOOSING: FrameRange(3, 11, 4),
                                                         CONFIRMING: FrameRange(15, 20, 4)}
     assert positions_by_half([1, 11, 191, 200, 201, 391], 1, 400) == {CHOOSING: [0, 1, 2, 3], CONFIRMING: [4, 5]}
+    assert halves_cell({"real_ap50_choosing": 0.84, "real_ap50_confirming": 0.8814}) == "0.840 / 0.881"
+    assert halves_cell({"real_ap50": 0.9, "real_ap50_choosing": 0.84}) == "—"  # measured before the halves
 
 
 def _as_compiled(knob: str, value: str, ap50: float, runtime_vs_base: float, minutes: float = 54.0) -> dict:
@@ -365,13 +367,15 @@ def test_photometry_overrides_switch_the_light_and_the_camera_effects(tmp_path):
 
 
 def test_the_effects_ablation_reports_what_each_variant_costs(tmp_path):
-    rows = [{"value": "off", "real_ap50": 0.87, "synthetic_ap50": 0.96, "synthetic_pckh": 0.68,
-             "compile_minutes": 54.0, "render_ms_per_sample": 72.0, "effects_on": {"shadows": None}},
+    rows = [{"value": "off", "real_ap50": 0.87, "real_ap50_choosing": 0.85, "real_ap50_confirming": 0.9,
+             "synthetic_ap50": 0.96, "synthetic_pckh": 0.68, "compile_minutes": 54.0, "render_ms_per_sample": 72.0,
+             "effects_on": {"shadows": None}},
             {"value": "matched", "synthetic_ap50": 0.95, "synthetic_pckh": 0.66, "compile_minutes": 56.0,
              "render_ms_per_sample": 80.0, "effects_on": {"shadows": None, "sensor_noise": 5.9}}]
     ablation.report(rows, tmp_path)
     table = (tmp_path / "effects_ablation.md").read_text().splitlines()
-    assert table[2] == ("| off | default sun, no camera effects | 0.870 | 0.960 | 0.680 | 72 | shadows | 54.0 |")
+    assert table[2] == ("| off | default sun, no camera effects | 0.870 | 0.850 / 0.900 | 0.960 | 0.680 | 72 | shadows "
+                        "| 54.0 |")
     assert "sensor_noise (5.9)" in table[3] and "| — |" in table[3]
     assert json.loads((tmp_path / "effects_ablation.json").read_text())[1]["value"] == "matched"
 
