@@ -10,18 +10,22 @@ LLVM_LIB := /usr/lib/x86_64-linux-gnu/libLLVM-19.so
 export DRJIT_LIBLLVM_PATH := $(LLVM_LIB)
 DEMO_OUT ?= out/demo
 
-.PHONY: install test test-hard test-fast demo runtime-wheel lint clean
+# Debian packages: LLVM 19 for Mitsuba's CPU backend; for vc-serve's tests a real MQTT broker (mosquitto) and a real
+# RTSP camera (GStreamer's RTSP server, run by the system Python through its introspection bindings: tests/serve_*).
+SYSTEM_PACKAGES := libllvm19 mosquitto python3-gi gir1.2-gstreamer-1.0 gir1.2-gst-rtsp-server-1.0 gstreamer1.0-rtsp \
+	gstreamer1.0-plugins-base gstreamer1.0-plugins-good gstreamer1.0-plugins-bad
+SUDO := $(if $(filter 0,$(shell id -u)),,sudo)
 
-install: $(STAMP)
+.PHONY: install system-packages test test-hard test-fast demo runtime-wheel lint clean
 
-$(LLVM_LIB):
-	@if [ "$$(id -u)" = 0 ]; then \
-		apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libllvm19; \
-	else \
-		sudo apt-get update -qq && sudo DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libllvm19; \
-	fi
+install: system-packages $(STAMP)
 
-$(STAMP): pyproject.toml packaging/runtime/pyproject.toml $(LLVM_LIB)
+# Installs only what is missing (dpkg -s answers in milliseconds when all are there).
+system-packages:
+	@dpkg -s $(SYSTEM_PACKAGES) >/dev/null 2>&1 || { $(SUDO) apt-get update -qq && \
+		$(SUDO) env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(SYSTEM_PACKAGES); }
+
+$(STAMP): pyproject.toml packaging/runtime/pyproject.toml | system-packages
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	# torch first: the pinned CPU wheel; any looser spec pulls GBs of CUDA packages.
 	$(PIP) install -q torch==2.13.0

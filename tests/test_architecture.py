@@ -1,10 +1,10 @@
 """The layering the code keeps: commands parse and report, library functions do the work.
 
-The package is ``src/vc``; its subpackages are the architecture (scenes -> calibration -> render -> model -> deploy,
-measured by evaluation, driven by stages, fronted by cli). No module outside ``vc/cli/`` imports a command module (a
-command never runs another's argument parser either: the library stage is there to call), and no function outside
-``vc/cli/`` takes an argparse ``Namespace``. The benchmarks are held to the same rule: they call the stages with typed
-settings, as the commands do."""
+The package is ``src/vc``; its subpackages are the architecture (scenes -> calibration -> render -> model -> deploy
+-> serve, measured by evaluation, driven by stages, fronted by cli). No module outside ``vc/cli/`` imports a command
+module (a command never runs another's argument parser either: the library stage is there to call), and no function
+outside ``vc/cli/`` takes an argparse ``Namespace``. The benchmarks are held to the same rule: they call the stages
+with typed settings, as the commands do."""
 
 from __future__ import annotations
 
@@ -17,7 +17,7 @@ REPO = Path(__file__).resolve().parent.parent
 PACKAGE = REPO / "src" / "vc"
 LIBRARY = (PACKAGE, REPO / "benchmarks")
 #: What ``src/vc`` holds: one subpackage per part of the compiler, named after its import path.
-SUBPACKAGES = {"cli", "scenes", "calibration", "render", "model", "deploy", "evaluation", "stages"}
+SUBPACKAGES = {"cli", "scenes", "calibration", "render", "model", "deploy", "evaluation", "stages", "serve"}
 
 
 def _modules() -> list[Path]:

@@ -18,6 +18,9 @@ scene, or before scene fitness, loads as before, without a reference, and its fr
 reference that does not fit the bundle's frames is refused by name. Its optional ``fit_range`` is how far frames may
 depart from the background and still be fit, what the networks were compiled to see
 (:class:`~vc.deploy.fitness.FitRange`; absent: the background's one look).
+
+The manifest's optional ``zones`` are the scene's named areas, in frame pixels or on the ground, that a service
+reports people entering and leaving (:mod:`vc.deploy.zones`); a malformed zone is refused by name.
 """
 
 from __future__ import annotations
@@ -35,6 +38,7 @@ from vc.deploy.decode import DecodeConfig, RetiredSetting, stored_decode_fields
 from vc.deploy.fitness import BACKGROUND_ONLY, FitRange, SceneReference
 from vc.deploy.heatmaps import ANATOMICAL_CHANNELS, LAYOUTS
 from vc.deploy.signing import SIGNATURE, verify_manifest
+from vc.deploy.zones import Zone, zones_from_manifest
 from vc.errors import InputError
 
 BUNDLE_FORMAT = "visual-compiler bundle"
@@ -73,6 +77,7 @@ class Bundle:
     regions: list[RegionEntry]
     reference: SceneReference | None = None  # the scene's background for scene fitness; None: not carried
     fit_range: FitRange = BACKGROUND_ONLY  # how far a fit frame may depart from it (the module docstring)
+    zones: tuple[Zone, ...] = ()  # the scene's named zones (vc.deploy.zones)
 
     @property
     def frame_size(self) -> tuple[int, int]:
@@ -194,7 +199,8 @@ def load_bundle(path: str | Path, public_key: Path | bytes | None = None) -> Bun
             precision=str(entry.get("precision", "fp32"))))  # bundles before precisions were all fp32
     if not regions:
         raise InputError(path, f"{MANIFEST}: regions", "the bundle has no regions")
-    return Bundle(path, manifest, regions, _reference(files, manifest, path), _fit_range(manifest, path))
+    return Bundle(path, manifest, regions, _reference(files, manifest, path), _fit_range(manifest, path),
+                  tuple(zones_from_manifest(manifest, path)))
 
 
 def _fit_range(manifest: dict, path: Path) -> FitRange:

@@ -34,6 +34,7 @@ keeps the fitness in ``runtime.last_fitness``.
 
 from __future__ import annotations
 
+import time
 from collections.abc import Mapping
 from concurrent.futures import Future, ThreadPoolExecutor, wait
 from dataclasses import dataclass, replace
@@ -162,6 +163,7 @@ class RegionRunner:
         self.scale = np.array([entry.input_size[0] / width, entry.input_size[1] / height])
         self.frame_size = frame_size
         self._cells_of_pixels: dict[tuple[int, int], tuple[np.ndarray, np.ndarray]] = {}
+        self.last_seconds = (0.0, 0.0)  # the last people(): network, decoding
 
     def heatmaps(self, frame: np.ndarray) -> np.ndarray:
         x0, y0, width, height = self.entry.crop_window
@@ -173,7 +175,14 @@ class RegionRunner:
         return self.origin + (np.asarray(xy, np.float64) + 0.5) / self.scale - 0.5
 
     def people(self, frame: np.ndarray) -> list[Person]:
-        return self.people_in(self.heatmaps(frame))
+        """The people this region owns in ``frame``; the seconds its network and its decoding took are
+        :attr:`last_seconds` (for a service's metrics)."""
+        start = time.perf_counter()
+        heatmaps = self.heatmaps(frame)
+        decoding = time.perf_counter()
+        people = self.people_in(heatmaps)
+        self.last_seconds = (decoding - start, time.perf_counter() - decoding)
+        return people
 
     def people_in(self, heatmaps: np.ndarray, config: DecodeConfig | None = None,
                   seam_tolerance: float = SEAM_FOOT_TOLERANCE, prior: UprightPrior = UPRIGHT_PRIOR) -> list[Person]:
@@ -240,6 +249,8 @@ class FrameResult:
     people: list[Person]
     fitness: FrameFitness
     suppressed: bool = False
+    network_s: float = 0.0  # the regions' networks, summed (0 when the frame's people were withheld)
+    decode_s: float = 0.0  # their decoding, summed
 
     def reported(self, people: list[Person]) -> list[Person]:
         """What to report of ``people`` for this frame — a tracker's output for it, which adds people carried
@@ -362,7 +373,9 @@ class Runtime:
                       else [future.result() for future in pending])
         people = sorted((person for found in per_region for person in found), key=lambda person: -person.score)
         result = FrameResult([within_frame(moved_by(person, self.registration), self.bundle.frame_size)
-                              for person in without_seam_duplicates(people)], fitness)
+                              for person in without_seam_duplicates(people)], fitness,
+                             network_s=sum(runner.last_seconds[0] for runner in self.runners),
+                             decode_s=sum(runner.last_seconds[1] for runner in self.runners))
         result.reported(result.people)  # flagged when unfit
         return result
 
