@@ -64,6 +64,12 @@ CASES = {
     "time of day without a timezone": (
         modified(_set("lighting", {"location": [51.4, -0.9], "time": "2009-03-20T10:30:00", "north_deg": 90.0})),
         "lighting"),
+    "zone with two points": (modified(_set("zones", [{"name": "door", "polygon": [[0, 0], [1, 0]]}])),
+                             "zones.0.polygon: a polygon needs at least 3 points"),
+    "zone names repeated": (modified(_set("zones", [{"name": "a", "polygon": [[0, 0], [1, 0], [1, 1]]}] * 2)),
+                            "zones: zone names must be unique: a repeated"),
+    "zone in no frame": (modified(_set("zones", [{"name": "a", "frame": "sky", "polygon": [[0, 0], [1, 0], [1, 1]]}])),
+                         "zones.0.frame"),
     "location off the earth": (
         modified(_set("lighting", {"location": [95.0, 0.0], "time": "2009-03-20T10:30:00+00:00", "north_deg": 0.0})),
         "location must be [latitude, longitude]"),

@@ -224,3 +224,27 @@ def test_a_stream_that_does_not_open_is_retried_with_growing_waits(bundle):
     status = reader.snapshot()
     # waits 0.1, 0.2, 0.4, 0.4 ... after refused connections: a handful of tries in 2 s, not hundreds
     assert 2 <= status.reconnects <= 8 and status.state == "disconnected" and "cannot open" in status.last_error
+
+
+def test_a_scenes_zones_travel_into_its_bundle_and_leave_its_content_hash_alone(tmp_path, bundle):
+    from scene_factory import write_scene
+
+    from vc.model.export import with_zones
+    from vc.scenes.loader import load_scene
+
+    plain_path = write_scene(tmp_path / "plain")
+    plain = load_scene(plain_path)
+    zoned_path = write_scene(tmp_path / "zoned")  # the same scene, zones added in the middle of the file
+    text = zoned_path.read_text()
+    middle = text.index("regions:")
+    zones = ("zones:\n- name: kiosk-queue\n  polygon: [[-4, 6], [-2, 6], [-2, 7], [-4, 7]]\n"
+             "- {name: door, frame: image, polygon: [[10, 10], [60, 10], [60, 90]]}\n")
+    zoned_path.write_text(text[:middle] + zones + text[middle:])
+    zoned = load_scene(zoned_path)
+    # zones change nothing rendered or trained: a bundle takes them at export, without a new compile
+    assert zoned.content_hash == plain.content_hash and plain.zones == ()
+    manifest = json.loads((bundle / "manifest.json").read_text())
+    copy = marker_bundle(bundle, tmp_path / "zoned_bundle", zones=with_zones(manifest, zoned)["zones"])
+    loaded = load_bundle(copy)
+    assert [(zone.name, zone.frame) for zone in loaded.zones] == [("kiosk-queue", "ground"), ("door", "image")]
+    assert with_zones(manifest, plain) is manifest  # no zones: the manifest as it was

@@ -221,7 +221,16 @@ def bundle_files(run: Path, precision: str = "fp32", eval_samples: int = 200, ca
         manifest, files = with_reference(manifest, files, reference,
                                          f"{scene.image_path.name}, the background of scene {scene.name!r}",
                                          fit_range)
+        manifest = with_zones(manifest, scene)
     return manifest, files
+
+
+def with_zones(manifest: dict, scene: Scene) -> dict:
+    """The bundle ``manifest`` with the scene's named zones (:mod:`vc.deploy.zones`), when it has any."""
+    if not scene.zones:
+        return manifest
+    return {**manifest, "zones": [{"name": zone.name, "frame": zone.frame, "polygon": zone.polygon}
+                                  for zone in scene.zones]}
 
 
 def write_bundle(manifest: dict, files: dict[str, bytes], output: Path, as_zip: bool,

@@ -23,7 +23,7 @@ from vc.errors import InputError
 from vc.io import image_size
 from vc.scenes.layout import Layout
 from vc.scenes.pixel_layout import PixelLayout
-from vc.scenes.schema import Lighting, Priors, RegionPlanSpec, SceneFile, SolarLighting
+from vc.scenes.schema import Lighting, Priors, RegionPlanSpec, SceneFile, SolarLighting, ZoneSpec
 
 
 @dataclass(frozen=True)
@@ -44,6 +44,7 @@ class Scene:
     video_path: Path | None = None  # frames of the same camera, when the scene gives them
     exposure_s: float | None = None  # the camera's exposure time, when the scene gives it
     drawn_layout: PixelLayout | None = None  # the layout as drawn in pixels, when the scene gives it so
+    zones: tuple[ZoneSpec, ...] = ()  # named zones a service reports people entering and leaving
 
     def camera_response(self) -> ResponseFit:
         """The camera response every stage decodes and encodes with: the one the scene names, or (``auto``) the
@@ -167,11 +168,29 @@ def _video_files(video: Path | None) -> list[Path]:
     return [video] if video.is_file() else sorted(p for p in video.iterdir() if p.is_file())
 
 
+def _hashed_yaml(path: Path) -> bytes:
+    """The scene file as its content hash covers it: as written, less its ``zones`` entry (cut from the text, so that
+    adding zones to a scene leaves its hash as it was). Zones change nothing rendered or trained: adding one needs
+    only ``vc-export --scene``, not a new compile."""
+    raw = path.read_bytes()
+    text = raw.decode()
+    root = yaml.compose(text)
+    for key, value in root.value if isinstance(root, yaml.MappingNode) else ():
+        if key.value == "zones":
+            start = text.rfind("\n", 0, key.start_mark.index) + 1  # from the start of its line
+            end = value.end_mark.index
+            if end < len(text) and text[end - 1] != "\n":  # a flow value ends mid-line: to the end of the line
+                newline = text.find("\n", end)
+                end = len(text) if newline < 0 else newline + 1
+            return (text[:start] + text[end:]).encode()
+    return raw
+
+
 def _scene(path: Path, spec: SceneFile, image_path: Path, camera: Camera, response: str,
            hashed_files: list[Path]) -> Scene:
     video = _video_path(path, spec)
-    digest = hashlib.sha256()
-    for file in (path, *hashed_files, *_video_files(video)):
+    digest = hashlib.sha256(_hashed_yaml(path))
+    for file in (*hashed_files, *_video_files(video)):
         digest.update(file.read_bytes())
     drawn = spec.layout if isinstance(spec.layout, PixelLayout) else None
     layout = drawn.to_ground(camera, path) if drawn is not None else spec.layout
@@ -180,4 +199,5 @@ def _scene(path: Path, spec: SceneFile, image_path: Path, camera: Camera, respon
         priors=spec.priors, lighting=spec.lighting, effects=spec.effects, regions=spec.regions,
         content_hash=digest.hexdigest(), video_path=video,
         exposure_s=(spec.camera or spec.calibration).exposure_s, drawn_layout=drawn,
+        zones=tuple(spec.zones),
     )

@@ -187,6 +187,22 @@ class NamedPolygon(StrictModel):
         return value
 
 
+class ZoneSpec(StrictModel):
+    """A named zone a service reports people entering and leaving (by their feet; :mod:`vc.deploy.zones`): a polygon
+    on the ground in metres (``frame: ground``, the default) or drawn in pixels of the background (``frame: image``).
+    Zones change nothing that is rendered or trained: they travel into the bundle at export."""
+
+    name: str = Field(pattern=r"^[A-Za-z0-9_-]+$")
+    frame: Literal["ground", "image"] = "ground"
+    polygon: list[Vec2]
+
+    @field_validator("polygon")
+    @classmethod
+    def _simple(cls, value: list[list[float]]) -> list[list[float]]:
+        validate_ground_polygon(value)
+        return value
+
+
 class RegionPlanSpec(StrictModel):
     """How the walkable area is split into regions, each with its own network (docs/design.md "Regions").
 
@@ -243,6 +259,16 @@ class SceneFile(StrictModel):
     lighting: LightingSpec = "auto"
     effects: Literal["auto"] | list[Literal[EFFECT_NAMES]] = "auto"  # type: ignore[valid-type]
     regions: RegionPlanSpec = RegionPlanSpec()
+    zones: list[ZoneSpec] = []
+
+    @field_validator("zones")
+    @classmethod
+    def _unique_zone_names(cls, value: list[ZoneSpec]) -> list[ZoneSpec]:
+        names = [zone.name for zone in value]
+        repeated = sorted({name for name in names if names.count(name) > 1})
+        if repeated:
+            raise ValueError(f"zone names must be unique: {', '.join(repeated)} repeated")
+        return value
 
     @field_validator("regions", mode="before")
     @classmethod
