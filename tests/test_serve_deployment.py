@@ -113,3 +113,29 @@ def test_the_container_install_serves_a_cameras_people_to_a_broker(container_ven
     finally:
         broker.stop()
     assert re.search(r"vc-serve: 1 camera\(s\)", service.output())
+
+
+@needs_broker
+def test_the_load_benchmark_measures_capacity_cpu_latency_and_a_soak(bundle, tmp_path):
+    """benchmarks/serve_load.py end to end on a short run: a video of a walker at 10 frames/s, one camera and two,
+    a 4 s soak; every figure the report gives is there and sane (the real run's figures are committed)."""
+    from benchmarks import serve_load
+
+    marker = marker_bundle(bundle, tmp_path / "markers")
+    writer = cv2.VideoWriter(str(tmp_path / "walk.avi"), cv2.VideoWriter_fourcc(*"MJPG"), 10, (128, 64))
+    for k in range(60):
+        writer.write(marker_frame((128, 64), [(2 + (k % 45) // 3, 8)]))
+    writer.release()
+    out = tmp_path / "report"
+    assert serve_load.main([str(marker), "--video", str(tmp_path / "walk.avi"), "--fps", "10", "--max-cameras", "2",
+                            "--warmup-s", "2", "--measure-s", "3", "--soak-cameras", "1", "--soak-s", "4",
+                            "--out", str(out)]) == 0
+    report = json.loads((out / "serve_load.json").read_text())
+    assert [point["cameras"] for point in report["capacity"]] == [1, 2] and report["served_cameras"] == 2
+    for point in report["capacity"]:
+        assert 8 <= point["frames_read_per_s"] <= 11 and point["dropped_share_worst_camera"] < 0.01
+        assert 0 < point["cpu_per_camera"] < 2 and point["events"] > 0 and 0 < point["latency_ms_median"] < 1000
+    soak = report["soak"]
+    assert soak["faults"] == 0 and len(soak["resident_mb"]) >= 2 and abs(soak["growth_after_warmup"]) < 0.5
+    assert (out / "serve_load.png").stat().st_size > 0
+    assert "Capacity: 2 camera(s)" in (out / "serve_load.md").read_text()
