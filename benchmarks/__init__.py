@@ -8,7 +8,7 @@
 - ``runtime_interleaved``: ms per real frame of several bundles timed frame by frame in one process.
 - ``lighting_recovery``: how well the light is recovered from one background rendered under known light.
 - ``robustness``: AP50 and false people under COCO-C's corruptions and a camera's everyday changes, beside YOLO-pose.
-- ``serve_load``: how many cameras ``vc-serve`` serves on this machine, CPU per camera, event latency, memory over a soak.
+- ``serve_load``: how many cameras ``vc-serve`` serves on this machine, CPU per camera, latency, memory over a soak.
 
 Each runs from the repository root as ``python -m benchmarks.<name> ...`` (``--help`` lists its arguments) and
 writes its numbers and plots to ``benchmarks/results/<name>/`` unless ``--out`` says otherwise
