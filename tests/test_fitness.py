@@ -432,22 +432,26 @@ def test_vc_export_refuses_the_background_of_another_scene(trained_run, tmp_path
 
 def test_the_export_stage_given_the_runs_scene_writes_its_reference(trained_run, background, tmp_path):
     """What vc-compile's export does with its scene (and vc-export --scene): here a stand-in for the test run's scene,
-    its hash the run's, its background the test scene's."""
+    its hash the run's, its background the test scene's, and a zone."""
     from types import SimpleNamespace
 
+    from vc.scenes.schema import ZoneSpec
     from vc.stages.config import ExportSettings
     from vc.stages.export import export
 
     write_image(tmp_path / "background.png", background)
+    door = ZoneSpec(name="door", frame="image", polygon=[[10, 10], [40, 10], [40, 40]])
     scene = SimpleNamespace(content_hash="f" * 64, image_path=tmp_path / "background.png", name="flat",
                             path=tmp_path / "scene.yaml", camera_response=lambda: SimpleNamespace(response=SRGB),
-                            video_path=None)
+                            video_path=None, zones=(door,))
     result = export(trained_run, tmp_path / "bundle", ExportSettings(precision="fp32", eval_samples=0),
                     show_progress=False, scene=scene)
     entry = result.manifest["reference"]
     assert entry["background"] == REFERENCE_MEMBER and entry["cells"] == [32, 16] and entry["cell_px"] == 4
     assert entry["background_sha256"] == sha256((tmp_path / "bundle" / REFERENCE_MEMBER).read_bytes())
     assert result.bundle.reference.fitness(background).state == fit.OK
+    # the scene's zones travel with it (docs/serve.md)
+    assert [(zone.name, zone.frame, len(zone.polygon)) for zone in result.bundle.zones] == [("door", "image", 3)]
 
 
 def test_a_scenes_reference_is_its_background_through_its_response():

@@ -65,6 +65,18 @@ def _walkers(k: int) -> list[tuple[int, int]]:
     return [(2 + k // 3, 8)] + ([(20, 5)] if 5 <= k < 30 else [])
 
 
+def _serving(frames: Path, marker: Path, broker: Broker, tmp_path: Path, cleanup: list) -> tuple[RtspCamera, Service]:
+    """``frames`` streamed by an RTSP camera at 10 frames/s and served by vc-serve, once its first 10 frames ran."""
+    camera = RtspCamera(frames, fps=10)
+    camera.start()
+    cleanup.append(camera)
+    service = Service(tmp_path, marker, camera.url, broker.port)
+    service.start()
+    cleanup.append(service)
+    wait(lambda: service.camera()["frames_run"] >= 10, 20, "frames run")
+    return camera, service
+
+
 @needs_broker
 @needs_rtsp
 def test_served_from_rtsp_the_people_are_the_ones_vc_run_finds_in_the_same_frames(marker, broker, tmp_path, cleanup):
@@ -113,14 +125,7 @@ def test_served_from_rtsp_the_people_are_the_ones_vc_run_finds_in_the_same_frame
 @needs_broker
 @needs_rtsp
 def test_a_camera_server_killed_and_restarted_is_reconnected_and_the_gap_reported(marker, broker, tmp_path, cleanup):
-    frames = _frames(tmp_path / "frames", 300, _walkers)
-    camera = RtspCamera(frames, fps=10)
-    camera.start()
-    cleanup.append(camera)
-    service = Service(tmp_path, marker, camera.url, broker.port)
-    service.start()
-    cleanup.append(service)
-    wait(lambda: service.camera()["frames_run"] >= 10, 20, "frames run")
+    camera, service = _serving(_frames(tmp_path / "frames", 300, _walkers), marker, broker, tmp_path, cleanup)
     camera.kill()
     gap = wait(lambda: (lambda c: c if c["state"] == "disconnected" else None)(service.camera()), 10,
                 "the camera reported disconnected")
@@ -139,14 +144,8 @@ def test_a_camera_server_killed_and_restarted_is_reconnected_and_the_gap_reporte
 @needs_broker
 @needs_rtsp
 def test_a_stalled_stream_is_stale_within_twice_the_read_timeout(marker, broker, tmp_path, cleanup):
-    frames = _frames(tmp_path / "frames", 300, _walkers)
-    camera = RtspCamera(frames, fps=10)
-    camera.start()
-    cleanup.append(camera)
-    service = Service(tmp_path, marker, camera.url, broker.port)  # read timeout 1 s: stale after 2 s
-    service.start()
-    cleanup.append(service)
-    wait(lambda: service.camera()["frames_run"] >= 10, 20, "frames run")
+    # the service's read timeout is 1 s: stale after 2 s
+    camera, service = _serving(_frames(tmp_path / "frames", 300, _walkers), marker, broker, tmp_path, cleanup)
     camera.process.send_signal(signal.SIGSTOP)  # the connection stays open; nothing comes through it
     stalled = time.monotonic()
     try:
@@ -208,13 +207,7 @@ def test_frames_of_another_size_are_refused_by_name_and_the_right_size_runs_agai
                                                                                   cleanup):
     right = _frames(tmp_path / "right", 300, _walkers)
     wrong = _frames(tmp_path / "wrong", 300, lambda k: [(2, 4)], size=(160, 96))
-    camera = RtspCamera(right, fps=10)
-    camera.start()
-    cleanup.append(camera)
-    service = Service(tmp_path, marker, camera.url, broker.port)
-    service.start()
-    cleanup.append(service)
-    wait(lambda: service.camera()["frames_run"] >= 5, 20, "frames run")
+    camera, service = _serving(right, marker, broker, tmp_path, cleanup)
     camera.kill()
     camera.folder = wrong
     camera.start()

@@ -187,20 +187,12 @@ class NamedPolygon(StrictModel):
         return value
 
 
-class ZoneSpec(StrictModel):
+class ZoneSpec(NamedPolygon):
     """A named zone a service reports people entering and leaving (by their feet; :mod:`vc.deploy.zones`): a polygon
     on the ground in metres (``frame: ground``, the default) or drawn in pixels of the background (``frame: image``).
     Zones change nothing that is rendered or trained: they travel into the bundle at export."""
 
-    name: str = Field(pattern=r"^[A-Za-z0-9_-]+$")
     frame: Literal["ground", "image"] = "ground"
-    polygon: list[Vec2]
-
-    @field_validator("polygon")
-    @classmethod
-    def _simple(cls, value: list[list[float]]) -> list[list[float]]:
-        validate_ground_polygon(value)
-        return value
 
 
 class RegionPlanSpec(StrictModel):
