@@ -248,3 +248,13 @@ def test_a_scenes_zones_travel_into_its_bundle_and_leave_its_content_hash_alone(
     loaded = load_bundle(copy)
     assert [(zone.name, zone.frame) for zone in loaded.zones] == [("kiosk-queue", "ground"), ("door", "image")]
     assert with_zones(manifest, plain) is manifest  # no zones: the manifest as it was
+
+
+def test_a_frames_result_says_how_long_its_networks_and_their_decoding_took(bundle, tmp_path):
+    from serve_factory import marker_frame
+
+    from vc.deploy.runtime import Runtime
+
+    with Runtime(marker_bundle(bundle, tmp_path / "markers"), threads=1) as runtime:
+        result = runtime.run(marker_frame((128, 64), [(5, 8)]))
+    assert len(result.people) == 1 and result.network_s > 0 and result.decode_s > 0  # the service's histograms
