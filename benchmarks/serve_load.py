@@ -288,7 +288,10 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     report = {"bundle": display_path(args.bundle), "video": display_path(args.video), "fps": args.fps,
               "machine": {"cpu": cpu_facts()[0], "cores": usable_cores()},
-              "command": "python -m benchmarks.serve_load " + " ".join(argv if argv is not None else sys.argv[1:]),
+              "command": f"python -m benchmarks.serve_load {display_path(args.bundle)} --video "
+                         f"{display_path(args.video)} --fps {args.fps:g} --max-cameras {args.max_cameras} --warmup-s "
+                         f"{args.warmup_s:g} --measure-s {args.measure_s:g} --soak-cameras {args.soak_cameras} "
+                         f"--soak-s {args.soak_s:g}",
               "capacity": []}
     with tempfile.TemporaryDirectory(prefix="serve-load-") as scratch:
         for cameras in range(1, args.max_cameras + 1):

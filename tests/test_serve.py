@@ -258,3 +258,19 @@ def test_a_frames_result_says_how_long_its_networks_and_their_decoding_took(bund
     with Runtime(marker_bundle(bundle, tmp_path / "markers"), threads=1) as runtime:
         result = runtime.run(marker_frame((128, 64), [(5, 8)]))
     assert len(result.people) == 1 and result.network_s > 0 and result.decode_s > 0  # the service's histograms
+
+
+def test_a_looped_one_image_folder_is_played_at_its_rate_not_as_fast_as_it_reads(bundle, tmp_path):
+    import cv2
+
+    from vc.serve.config import CameraSettings
+
+    (tmp_path / "frames").mkdir()
+    cv2.imwrite(str(tmp_path / "frames" / "only.png"), np.zeros((64, 128, 3), np.uint8))
+    camera = CameraSettings(name="gate", bundle=bundle, source=str(tmp_path / "frames"), fps=20, loop=True)
+    reader = CameraReader(camera, (128, 64))
+    reader.start()
+    time.sleep(1.0)
+    reader.stop()
+    reader.join(timeout=5)
+    assert 15 <= reader.snapshot().frames_read <= 25  # 20 frames a second, across the loop's restarts

@@ -164,6 +164,7 @@ class CameraReader(threading.Thread):
         self.lock = threading.Lock()
         self._stopping = threading.Event()
         self._refused_size: tuple[int, int] | None = None
+        self._next_due = time.monotonic()  # when a paced source's next frame is read
 
     def stop(self) -> None:
         self._stopping.set()
@@ -207,13 +208,8 @@ class CameraReader(threading.Thread):
         self._set(state="connected", connected_since=time.monotonic(), last_error=None)
         log.info("camera %s: reading %s", self.camera.name, self.camera.source)
         interval = 1.0 / capture.fps if capture.paced and capture.fps else 0.0
-        next_due = time.monotonic()
         read_any = False
         while not self._stopping.is_set():
-            if interval:
-                if self._stopping.wait(max(0.0, next_due - time.monotonic())):
-                    break
-                next_due = max(next_due + interval, time.monotonic() - interval)
             image = capture.read()
             if image is None:
                 if capture.paced:
@@ -222,6 +218,10 @@ class CameraReader(threading.Thread):
                             f"or the stream ended")
                 return read_any, False
             read_any = True
+            if interval:  # delivered at its time; the pace runs on across a looped file's restarts
+                if self._stopping.wait(max(0.0, self._next_due - time.monotonic())):
+                    break
+                self._next_due = max(self._next_due + interval, time.monotonic() - interval)
             self._deliver(image)
         return read_any, False
 
