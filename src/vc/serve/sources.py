@@ -119,14 +119,12 @@ class _Capture:
 
     def read(self) -> np.ndarray | None:
         if self.files is not None:
-            path = next(self.files, None)
-            if path is None:
-                return None
-            try:
-                return read_frame_image(path)
-            except InputError as error:
-                log.warning("camera %s: %s skipped: %s", self.camera.name, path.name, error.reason)
-                return self.read()
+            for path in self.files:  # an unreadable image is skipped, not the end of the folder
+                try:
+                    return read_frame_image(path)
+                except InputError as error:
+                    log.warning("camera %s: %s skipped: %s", self.camera.name, path.name, error.reason)
+            return None
         ok, bgr = self.capture.read()
         if not ok or bgr is None:
             return None
@@ -200,7 +198,7 @@ class CameraReader(threading.Thread):
                 return
             if ended:
                 first = True  # a looped file starts again at once: its end is no fault
-        self._set(state="disconnected" if self.status.state != "finished" else "finished")
+        self._set(state="disconnected")  # stopped (a finished source returned above)
 
     def _read_all(self, capture: _Capture) -> tuple[bool, bool]:
         """Read frames until the source ends or fails; (whether any frame was read, whether it ended as a file
