@@ -25,7 +25,8 @@ Random conditions are seeded per condition and frame (:func:`condition_seed`): a
 same bytes.
 
 Measured per condition: AP50 of each detector (:func:`vc.evaluation.metrics.evaluate`) and the scene fitness states the
-bundle's runtime gave the frames (:mod:`vc.deploy.fitness`: what it withheld, flagged or ran); per family, mPC (the mean
+bundle's runtime gave the frames (:mod:`vc.deploy.fitness`: what it withheld, flagged or ran, and which it brought back
+from light or a veil beyond the range first); per family, mPC (the mean
 AP50 over its conditions: for COCO-C over corruptions and severities) and rPC (mPC / clean AP50); and with
 ``--background`` (the scene's empty background, e.g. ``background.png`` of the compile), the people each detector
 reports on it under every condition (truth: nobody), counted for the bundle at its operating point — the score threshold
@@ -288,7 +289,12 @@ class BundleDetector:
 
     @property
     def state(self) -> str:
-        return self.runtime.last_fitness.state
+        """The last frame's state, and what the runtime did to its tone before the networks (vc.deploy.exposure,
+        vc.deploy.veil)."""
+        fitness = self.runtime.last_fitness
+        if fitness.exposure_corrected_stops is not None:
+            return f"{fitness.state} brought back"
+        return f"{fitness.state} veil taken off" if fitness.veil_taken_off is not None else fitness.state
 
 
 @dataclass

@@ -20,7 +20,7 @@ from hypothesis import strategies as st
 
 from vc.calibration.response import Response
 from vc.cli.run import main as vc_run
-from vc.deploy import exposure
+from vc.deploy import exposure, veil
 from vc.deploy import fitness as fit
 from vc.deploy.bundle import MANIFEST, NO_REFERENCE, REFERENCE_MEMBER, load_bundle, sha256
 from vc.deploy.fitness import FrameFitness, SceneReference
@@ -74,6 +74,19 @@ def gains(image: np.ndarray, red: float, blue: float) -> np.ndarray:
 def linear_gains(image: np.ndarray, red: float, blue: float) -> np.ndarray:
     """White balance as a camera gets it wrong: gains on the light, not on the codes."""
     return SRGB.encode(SRGB.decode(image) * np.array([red, 1.0, blue], np.float32))
+
+
+def low_contrast(image: np.ndarray, kept: float, mean: np.ndarray | None = None) -> np.ndarray:
+    """``kept`` of the image's contrast, its codes drawn toward ``mean`` (default: their own; COCO-C's contrast, a
+    camera's own)."""
+    mean = image.reshape(-1, 3).mean(axis=0) if mean is None else mean
+    return np.clip((image - mean) * kept + mean, 0, 255).round().astype(np.uint8)
+
+
+def fogged_light(image: np.ndarray, transmission: float) -> np.ndarray:
+    """A veil of airlight over the light (Koschmieder: ``t L + (1 - t) A``, A the light's median), through sRGB."""
+    light = SRGB.decode(image)
+    return SRGB.encode(np.float32(transmission) * light + np.float32(1 - transmission) * np.median(light))
 
 
 def monochrome(image: np.ndarray) -> np.ndarray:
@@ -235,6 +248,61 @@ def test_light_beyond_the_range_over_a_view_changed_otherwise_stays_withheld(ref
         result.fitness.to_dict()
 
 
+#: Views under a veil beyond the test bundle's range (module docstring of vc.deploy.veil): name -> (frame maker, the
+#: median code the frame stretched back may miss the background by: stretched 20x, a rounded code is a step of 20).
+VEILS = {
+    "a tenth of the contrast (dark)": (lambda image: low_contrast(image, 0.1), 3),
+    "a twentieth of the contrast (covered)": (lambda image: low_contrast(image, 0.05), 6),
+    "fog letting 8 % of the light through": (lambda image: fogged_light(image, 0.08), 3),
+}
+
+
+@pytest.mark.parametrize("name", list(VEILS))
+def test_a_view_under_a_veil_beyond_the_range_is_stretched_back_and_its_people_kept(referenced_bundle, background,
+                                                                                   name):
+    make, missed_codes = VEILS[name]
+    frame = make(background)
+    with Runtime(referenced_bundle, threads=1) as runtime:
+        assert runtime.fitness(frame).state in (fit.DARK, fit.COVERED)
+        result = runtime.run(frame)
+        assert result.fitness.state == fit.OK and not result.suppressed and result.people
+        assert result.fitness.veil_taken_off > 0.5 and result.fitness.to_dict()["veil_taken_off"] > 0.5
+        assert result.fitness.exposure_corrected_stops is None and result.fitness.matching > 0.8
+        stretched = veil.unveiled(frame, runtime.veil_correction)
+        # what the networks saw is the background's tone again, to within the codes the veil took
+        assert np.median(np.abs(stretched.astype(int) - background)) <= missed_codes
+        assert sorted(person.box.tolist() for person in result.people) \
+            == sorted(person.box.tolist() for person in runtime.run(stretched).people)
+
+
+@pytest.mark.parametrize(("name", "frame_of"), [
+    ("a fortieth of the contrast: too few codes left", lambda image: low_contrast(image, 1 / 40)),
+    ("light through a covering hand: no view", lambda image: np.clip(
+        128 + 2 * _smooth(np.random.default_rng(3), image.shape[:2], 20)[..., None], 0, 255).astype(np.uint8)
+     .repeat(3, axis=2)),
+    ("another view, faint", lambda image: low_contrast(image[::-1, ::-1], 0.05)),
+])
+def test_a_covered_frame_stays_covered_and_yields_no_one(referenced_bundle, background, name, frame_of):
+    frame = np.ascontiguousarray(frame_of(background))
+    with Runtime(referenced_bundle, threads=1) as runtime:
+        result = runtime.run(frame)
+        assert result.fitness.state == fit.COVERED and result.suppressed and result.people == []
+        assert result.fitness.veil_taken_off is None and runtime.veil_correction is None
+
+
+def test_the_veil_s_tables_are_kept_while_the_frames_need_about_as_much(referenced_bundle, background):
+    with Runtime(referenced_bundle, threads=1) as runtime:
+        runtime.run(low_contrast(background, 0.1))
+        tables = runtime.veil_correction
+        assert tables is not None and tables.shape == (3, 256)
+        following = background.copy()
+        following[24:40, 60:66] = (40, 50, 60)  # someone walked into the same veil
+        result = runtime.run(low_contrast(following, 0.1, background.reshape(-1, 3).mean(axis=0)))
+        assert result.fitness.veil_taken_off is not None and runtime.veil_correction is tables
+        assert runtime.run(following).fitness.veil_taken_off is None  # the fog lifted
+        assert runtime.veil_correction is None
+
+
 @pytest.mark.parametrize(("name", "frame"), [
     ("all 0", np.zeros((64, 128, 3), np.uint8)),
     ("all 255", np.full((64, 128, 3), 255, np.uint8)),
@@ -302,7 +370,7 @@ def test_a_bundle_without_a_reference_reports_unknown_and_its_people_as_before(b
         assert not result.suppressed and result.fitness.to_dict() == {"state": "unknown"}
         assert sorted(p.box.tolist() for p in runtime(background)) == \
             sorted(p.box.tolist() for p in _networks_people(runtime, background))
-        assert runtime.fitness_summary({"unknown": 3})["unknown_because"] == NO_REFERENCE
+        assert runtime.fitness_summary([FrameFitness.unknown(NO_REFERENCE)] * 3)["unknown_because"] == NO_REFERENCE
 
 
 def test_the_unfit_setting_is_checked(bundle):
@@ -370,21 +438,22 @@ def test_vc_run_writes_each_frames_fitness_and_counts_the_states(referenced_bund
     frames = tmp_path / "frames"
     for name, image in (("a-ok", background), ("b-black", np.zeros_like(background)),
                         ("c-dark", exposed(background, -3)), ("d-ok", background),
-                        ("e-bright", exposed(background, 1.8))):
+                        ("e-bright", exposed(background, 1.8)), ("f-veiled", low_contrast(background, 0.1))):
         write_image(frames / f"{name}.png", image)
     output = tmp_path / "out"
     assert vc_run([str(referenced_bundle), str(frames), "-o", str(output), "--threads", "1", "--fps", "5",
                    "--quiet"]) == 0
     lines = [json.loads(line) for line in (output / "detections.jsonl").read_text().splitlines()]
-    assert [line["fitness"]["state"] for line in lines] == ["ok", "covered", "dark", "ok", "ok"]
+    assert [line["fitness"]["state"] for line in lines] == ["ok", "covered", "dark", "ok", "ok", "ok"]
     assert lines[1]["people"] == [] and lines[2]["people"] == []  # not even people a track carries
     assert lines[0]["people"] and "reason" not in lines[0]["fitness"] and "dark" in lines[2]["fitness"]["reason"]
     assert lines[4]["people"] and lines[4]["fitness"]["exposure_corrected_stops"] == pytest.approx(-1.8, abs=0.1)
+    assert lines[5]["people"] and lines[5]["fitness"]["veil_taken_off"] > 0.5
     summary = json.loads((output / "summary.json").read_text())["fitness"]
-    assert summary == {"states": {"ok": 3, "dark": 1, "covered": 1}, "unfit_frames": 2, "unfit": "suppress",
-                       "exposure_corrected_frames": 1}
-    assert "scene fitness: 3 ok, 1 dark, 1 covered (1 brought back from light beyond the range); the people of " \
-           "the 2 unfit frame(s) withheld" in capsys.readouterr().out
+    assert summary == {"states": {"ok": 4, "dark": 1, "covered": 1}, "unfit_frames": 2, "unfit": "suppress",
+                       "exposure_corrected_frames": 1, "veil_taken_off_frames": 1}
+    assert "scene fitness: 4 ok, 1 dark, 1 covered (1 brought back from light beyond the range, 1 with a veil beyond " \
+           "the range taken off); the people of the 2 unfit frame(s) withheld" in capsys.readouterr().out
     flagged = tmp_path / "flagged"
     assert vc_run([str(referenced_bundle), str(frames), "-o", str(flagged), "--threads", "1", "--no-tracking",
                    "--unfit", "flag", "--quiet"]) == 0
@@ -404,7 +473,7 @@ def test_vc_eval_counts_the_scored_frames_per_state(referenced_bundle, backgroun
                     str(tmp_path / "out"), "--no-hog", "--threads", "1", "--frames", "1:4", "--quiet"]) == 0
     fitness = json.loads((tmp_path / "out" / "metrics.json").read_text())["fitness"]
     assert fitness == {"states": {"ok": 2, "dark": 1, "covered": 1}, "unfit_frames": 2, "unfit": "suppress",
-                       "exposure_corrected_frames": 0}
+                       "exposure_corrected_frames": 0, "veil_taken_off_frames": 0}
     assert "scene fitness: 2 ok, 1 dark, 1 covered;" in capsys.readouterr().out
     lines = [json.loads(line) for line in (tmp_path / "out" / "detections.jsonl").read_text().splitlines()]
     assert lines[1]["people"] == [] and lines[3]["people"] == []

@@ -77,8 +77,11 @@ def fitness_line(fitness: dict) -> str:
         return f"  scene fitness unknown: {fitness['unknown_because']}"
     states = fitness["states"]
     counts = ", ".join(f"{count} {state}" for state, count in states.items()) or "no frames"
-    if fitness.get("exposure_corrected_frames"):
-        counts += f" ({fitness['exposure_corrected_frames']} brought back from light beyond the range)"
+    corrected = [f"{fitness[key]} {what}" for key, what in (
+        ("exposure_corrected_frames", "brought back from light beyond the range"),
+        ("veil_taken_off_frames", "with a veil beyond the range taken off")) if fitness.get(key)]
+    if corrected:
+        counts += f" ({', '.join(corrected)})"
     if not fitness["unfit_frames"]:
         return f"  scene fitness: {counts}"
     kept = "withheld" if fitness["unfit"] == "suppress" else "kept, flagged (a covered frame's withheld)"

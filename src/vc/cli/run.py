@@ -19,7 +19,6 @@ from __future__ import annotations
 import argparse
 import json
 import time
-from collections import Counter
 from dataclasses import asdict
 from pathlib import Path
 
@@ -100,7 +99,7 @@ def main(argv: list[str] | None = None) -> int:
                  public_key=args.public_key, unfit=args.unfit,
                  weak_people_above=tracker.config.weak_people_above if tracker else None) as runtime:
         width, height = runtime.bundle.frame_size
-        milliseconds, people_count, coasted_count, states, brought_back = [], 0, 0, Counter(), 0
+        milliseconds, people_count, coasted_count, fitnesses = [], 0, 0, []
         with atomic_directory(args.output) as staging, open(staging / DETECTIONS, "w") as lines:
             overlays = _Overlays(staging, source, (width, height)) if args.overlay else None
             try:
@@ -117,8 +116,7 @@ def main(argv: list[str] | None = None) -> int:
                     milliseconds.append((time.perf_counter() - start) * 1e3)
                     people_count += len(people)
                     coasted_count += sum(person.coasted for person in people)
-                    states[result.fitness.state] += 1
-                    brought_back += result.fitness.exposure_corrected_stops is not None
+                    fitnesses.append(result.fitness)
                     lines.write(json.dumps({"frame": frame.number, "name": frame.name,
                                             "fitness": result.fitness.to_dict(),
                                             "people": [person.to_dict() for person in people]}) + "\n")
@@ -134,7 +132,7 @@ def main(argv: list[str] | None = None) -> int:
                 "threads": args.threads, "parallel_regions": runtime.pool is not None,
                 "tracking": ({"fps": rate, "config": asdict(tracker.config), "tracks": tracker.next_identity - 1,
                               "people_carried": coasted_count} if tracker else None),
-                "fitness": runtime.fitness_summary(states, brought_back),
+                "fitness": runtime.fitness_summary(fitnesses),
                 "ms_per_frame": {"mean": float(np.mean(milliseconds)), "median": float(np.median(milliseconds)),
                                  "p90": float(np.percentile(milliseconds, 90))},
             }

@@ -243,7 +243,7 @@ def fine_energy(frame: np.ndarray, cell: int) -> np.ndarray:
         + np.einsum("rkw,rkw->r", down, down) / np.float32(max(down[0].size, 1))
 
 
-def _clipped(cells: np.ndarray) -> np.ndarray:
+def clipped_cells(cells: np.ndarray) -> np.ndarray:
     """Cells with a channel at or above :data:`CLIPPED_CODE` (channel by channel: numpy reduces a last axis of three
     thirty times slower)."""
     return np.maximum(np.maximum(cells[..., 0], cells[..., 1]), cells[..., 2]) >= CLIPPED_CODE
@@ -303,7 +303,7 @@ def _log_chroma(linear: np.ndarray) -> np.ndarray:
     return np.log2((linear[..., [0, 2]] + LINEAR_FLOOR) / (linear[..., 1:2] + LINEAR_FLOOR))
 
 
-def _line(x: np.ndarray, y: np.ndarray) -> tuple[float, float]:
+def fitted_line(x: np.ndarray, y: np.ndarray) -> tuple[float, float]:
     """Least-squares gain and offset of ``y = gain x + offset``; (0, 0) when ``x`` does not vary (a background of
     one light has no line to fit)."""
     spread = float(np.var(x))
@@ -387,6 +387,7 @@ class FrameFitness:
     correlation: float | None = None  # of the coarse luminance with the background's
     registered_px: tuple[int, int] | None = None  # (x, y): the view's move the runtime compensated (None: none)
     exposure_corrected_stops: float | None = None  # the exposure change the runtime gave the frame (vc.deploy.exposure)
+    veil_taken_off: float | None = None  # the veil's share of the light the runtime stretched away (vc.deploy.veil)
 
     @property
     def unfit(self) -> bool:
@@ -412,6 +413,8 @@ class FrameFitness:
             result["registered_px"] = [int(value) for value in self.registered_px]
         if self.exposure_corrected_stops is not None:
             result["exposure_corrected_stops"] = round(float(self.exposure_corrected_stops), 3)
+        if self.veil_taken_off is not None:
+            result["veil_taken_off"] = round(float(self.veil_taken_off), 3)
         return result
 
 
@@ -504,7 +507,7 @@ class SceneReference:
         enough = np.count_nonzero(bright) >= MIN_CELLS
         centre = np.median(chroma[bright], axis=0) if enough else np.zeros(2)
         variation = float(np.median(np.linalg.norm(chroma[bright] - centre, axis=1))) if enough else 0.0
-        clipped = _clipped(self.cells)
+        clipped = clipped_cells(self.cells)
         usable = luminance[~clipped]
         edges = np.quantile(usable, np.linspace(0.0, 1.0, VEIL_BANDS + 1)[1:-1]) if usable.size >= MIN_CELLS \
             else np.zeros(0)
@@ -534,7 +537,7 @@ class SceneReference:
         spread = float(luma.std()) / reference["spread"]
         coherence = _coherence(luma, energy)
 
-        unclipped = ~(reference["clipped"] | _clipped(cells))
+        unclipped = ~(reference["clipped"] | clipped_cells(cells))
         light = linear @ LUMA
         fine_rows = fine_energy(frame, self.cell_px)
         fine = float(np.median(fine_rows / reference["fine_rows"]))
@@ -603,11 +606,11 @@ class SceneReference:
         if len(usable) < 3:
             return none, 0.0
         frame_light = np.array([float(np.median(light[kept[index]])) for index in usable])
-        gain, offset = _line(reference["band_light"][usable], frame_light)
+        gain, offset = fitted_line(reference["band_light"][usable], frame_light)
         share = min(max(offset, 0.0) / max(float(frame_light.mean()), LINEAR_FLOOR), 1.0)
         if gain <= 0 or share < VEIL_FLOOR:
             return none, share
-        channel_offsets = np.array([_line(reference["band_channels"][usable, channel],
+        channel_offsets = np.array([fitted_line(reference["band_channels"][usable, channel],
                                           np.array([float(np.median(linear[..., channel][kept[index]]))
                                                     for index in usable]))[1] for channel in range(3)])
         colour = np.clip(channel_offsets, 0.0, None) / max(float(offset), LINEAR_FLOOR)

@@ -12,7 +12,8 @@ the one kept across a seam, else the weaker.
 
 With each frame's people, its scene fitness is measured against the background the bundle carries
 (:mod:`vc.deploy.fitness`; ``unknown`` for a bundle without one). A ``covered`` frame (black, uniform, a covered lens,
-a lost signal's noise) never yields people. On a frame in any other unfit state (``dark``, ``overexposed``,
+a lost signal's noise) never yields people; one whose faint contrast still shows the background's view is a veil
+(below). On a frame in any other unfit state (``dark``, ``overexposed``,
 ``blurred``, ``moved``, ``changed``) the ``unfit`` setting decides: ``suppress`` (the default) withholds its people,
 ``flag`` keeps them, each marked with the frame's state (``Person.unfit``). The default suppresses because on those
 frames a bundle's people are mostly invented (issue 62: a frame of 3 people read as 7 to 89 under the camera-life
@@ -25,9 +26,12 @@ moved (a bracket settling, a knocked camera) is registered against the backgroun
 the networks (the region map moves with the view) and the people moved forward again; the registration is kept from
 frame to frame and measured again when the fitness reads a move. A frame lit beyond the bundle's exposure range
 by at most :data:`~vc.deploy.exposure.REACH_STOPS` (sun on snow, a dome's glare) is brought back to the background's
-exposure before the networks when it then fits (:mod:`vc.deploy.exposure`); the correction is kept from frame to
-frame while the frames still need about as much, and the networks start on the frame under it while the fitness is
-measured: a camera in such light pays for a table lookup and a second fitness a frame, not for networks run twice.
+exposure before the networks when it then fits (:mod:`vc.deploy.exposure`); a view under a veil beyond the range
+(thick fog, glare, a camera's low contrast: ``dark`` or ``overexposed`` with a veil, or ``covered`` by a faint copy of
+the view) has its contrast stretched back onto the background's tone when it then fits (:mod:`vc.deploy.veil`). The
+correction is kept from frame to frame while the frames still need about as much, and the networks start on the
+frame under it while the fitness is measured: a camera in such light pays for a table lookup and a second fitness a
+frame, not for networks run twice.
 :meth:`Runtime.run` returns the people with the fitness; ``runtime(frame)`` returns the people alone, as before, and
 keeps the fitness in ``runtime.last_fitness``.
 """
@@ -35,7 +39,8 @@ keeps the fitness in ``runtime.last_fitness``.
 from __future__ import annotations
 
 import time
-from collections.abc import Mapping
+from collections import Counter
+from collections.abc import Iterable
 from concurrent.futures import Future, ThreadPoolExecutor, wait
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -50,6 +55,7 @@ from vc.deploy.bundle import NO_REFERENCE, Bundle, RegionEntry, load_bundle
 from vc.deploy.decode import UPRIGHT_PRIOR, DecodeConfig, DecodedPerson, UprightPrior, decode
 from vc.deploy.exposure import BROUGHT_BACK_AGREEMENT, KEPT_CORRECTION_STOPS, correction_stops, exposed
 from vc.deploy.fitness import COVERED, DARK, MOVED, OVEREXPOSED, STATES, UNFIT_STATES, FrameFitness, translated
+from vc.deploy.veil import near, unveiled, veil_tables, veiled
 from vc.errors import InputError
 
 #: Two people of different regions overlapping more than this are one person seen by both (module docstring); lower,
@@ -297,6 +303,9 @@ class Runtime:
         #: The stops the last frame, lit beyond the range, was brought back by: the next frame's networks start on
         #: it corrected so (module docstring; None: the frames go to the networks with the light the camera gave).
         self.exposure_correction: float | None = None
+        #: The tables (3, 256) the last frame, veiled beyond the range, was stretched back through: the next frame's
+        #: networks start on it stretched so (module docstring; None: no veil was taken off it).
+        self.veil_correction: np.ndarray | None = None
         self.bundle = bundle if isinstance(bundle, Bundle) else load_bundle(bundle, public_key)
         cores = usable_cores()
         if parallel_regions is None:
@@ -344,8 +353,7 @@ class Runtime:
         self.check_frame(frame)
         seen = translated(frame, self.registration)
         # the networks start on a guess, the frame as the last one was shown to them, while the fitness is measured
-        guess = seen if self.exposure_correction is None \
-            else exposed(seen, self.bundle.reference.decode, self.exposure_correction)
+        guess = self._corrected(seen)
         pending = self._start(guess)
         fitness = self.fitness(seen)
         if fitness.state == MOVED and self.bundle.reference is not None:
@@ -354,12 +362,16 @@ class Runtime:
                 self.registration = registration
                 seen, guess = translated(frame, registration), None  # the guess showed the view where it was
                 fitness = self.fitness(seen)
+        shown, exposure, tables = seen, None, None
         brought_back = self._brought_back(seen, fitness, guess)
-        shown = seen
-        self.exposure_correction = None
+        unveiled_frame = self._unveiled(seen, fitness, guess) if brought_back is None and veiled(fitness) else None
         if brought_back is not None:
-            shown, fitness, self.exposure_correction = brought_back
-            fitness = replace(fitness, exposure_corrected_stops=self.exposure_correction)
+            shown, fitness, exposure = brought_back
+            fitness = replace(fitness, exposure_corrected_stops=exposure)
+        elif unveiled_frame is not None:
+            shown, judged, tables = unveiled_frame
+            fitness = replace(judged, veil_taken_off=fitness.veil)
+        self.exposure_correction, self.veil_correction = exposure, tables
         if self.registration != (0, 0):
             fitness = replace(fitness, registered_px=self.registration)
         self.last_fitness = fitness
@@ -378,6 +390,31 @@ class Runtime:
                              decode_s=sum(runner.last_seconds[1] for runner in self.runners))
         result.reported(result.people)  # flagged when unfit
         return result
+
+    def _corrected(self, seen: np.ndarray) -> np.ndarray:
+        """``seen`` under the last frame's correction, if it had one: the frame the networks start on."""
+        if self.veil_correction is not None:
+            return unveiled(seen, self.veil_correction)
+        if self.exposure_correction is not None:
+            return exposed(seen, self.bundle.reference.decode, self.exposure_correction)
+        return seen
+
+    def _unveiled(self, seen: np.ndarray, fitness: FrameFitness, guess: np.ndarray | None) -> tuple[
+            np.ndarray, FrameFitness, np.ndarray] | None:
+        """``seen`` stretched back onto the background's tone, its fitness and the tables it went through, when
+        ``fitness`` reads a view under a veil beyond the range and the frame stretched back is fit and matches the
+        background (:mod:`vc.deploy.veil`); None otherwise. The last frame's tables are kept while this frame's are
+        near them (``guess`` is ``seen`` through them)."""
+        reference = self.bundle.reference
+        tables = veil_tables(reference, seen) if reference is not None else None
+        if tables is None:
+            return None
+        kept = guess is not None and self.veil_correction is not None and near(tables, self.veil_correction)
+        frame, tables = (guess, self.veil_correction) if kept else (unveiled(seen, tables), tables)
+        judged = self.fitness(frame)
+        if judged.unfit or judged.matching < BROUGHT_BACK_AGREEMENT:
+            return None
+        return frame, judged, tables
 
     def _brought_back(self, seen: np.ndarray, fitness: FrameFitness, guess: np.ndarray | None) -> tuple[
             np.ndarray, FrameFitness, float] | None:
@@ -412,14 +449,17 @@ class Runtime:
                 future.cancel()
             wait(pending)
 
-    def fitness_summary(self, states: Mapping[str, int], brought_back: int = 0) -> dict:
-        """A run's scene fitness for its summary: frames per state (``states``, counted from each frame's
-        ``fitness.state``; in :data:`~vc.deploy.fitness.STATES` order), how many were unfit, the ``unfit`` setting,
-        how many were brought back from light beyond the range (``brought_back``, counted from each frame's
-        ``fitness.exposure_corrected_stops``) and, without a reference, why every frame is unknown."""
+    def fitness_summary(self, frames: Iterable[FrameFitness]) -> dict:
+        """A run's scene fitness for its summary, from each frame's fitness: frames per state (in
+        :data:`~vc.deploy.fitness.STATES` order), how many were unfit, the ``unfit`` setting, how many were brought
+        back from light beyond the range (``exposure_corrected_stops``) or had a veil beyond it taken off
+        (``veil_taken_off``) and, without a reference, why every frame is unknown."""
+        frames = list(frames)
+        states = Counter(fitness.state for fitness in frames)
         return {"states": {state: states[state] for state in STATES if states.get(state)},
                 "unfit_frames": sum(states.get(state, 0) for state in UNFIT_STATES), "unfit": self.unfit,
-                "exposure_corrected_frames": brought_back,
+                "exposure_corrected_frames": sum(fitness.exposure_corrected_stops is not None for fitness in frames),
+                "veil_taken_off_frames": sum(fitness.veil_taken_off is not None for fitness in frames),
                 **({} if self.bundle.reference is not None else {"unknown_because": NO_REFERENCE})}
 
     def __call__(self, frame: np.ndarray) -> list[Person]:

@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import json
 import time
-from collections import Counter
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
@@ -195,7 +194,7 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
         records = {OURS: _Record(), **({OURS_SINGLE_FRAME: _Record()} if tracker else {}),
                    **{name: _Record() for name in others}}
         sheet_numbers = set(np.linspace(0, source.count - 1, min(SHEET_FRAMES, source.count)).round().astype(int))
-        sheet, lines, people_by_frame, states, brought_back = [], [], {}, Counter(), 0
+        sheet, lines, people_by_frame, fitnesses = [], [], {}, []
         width, height = runtime.bundle.frame_size
         # A tracker sees every frame from the first selected to the last; only the selected ones are scored.
         seen = (FrameSource(request.video, FrameRange(frames.first, frames.last or max(truth), 1)) if tracker
@@ -216,8 +215,7 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
             seconds = time.perf_counter() - start
             if not scored:
                 continue
-            states[result.fitness.state] += 1
-            brought_back += result.fitness.exposure_corrected_stops is not None
+            fitnesses.append(result.fitness)
             boxes_truth = truth.get(frame.number, np.zeros((0, 4)))
             records[OURS].add(boxes_truth, _detections(tracked), seconds)
             if tracker:
@@ -233,7 +231,7 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
             progress.update()
         progress.close()
         bundle = runtime.bundle
-        fitness = runtime.fitness_summary(states, brought_back)
+        fitness = runtime.fitness_summary(fitnesses)
     evaluations = {name: evaluate(record.images) for name, record in records.items()}
     annotated_area = AnnotatedArea.of(truth)
     areas = {entry.name: entry.owned_image_area for entry in bundle.regions}
