@@ -15,6 +15,7 @@ from conftest import write_compile_config
 from vc.cli import compile as compile_cli
 from vc.cli import train as train_cli
 from vc.evaluation.selftest import composite_frame
+from vc.io import read_image
 from vc.render.dataset import open_region
 from vc.stages.config import CONFIG_FILE, PRESETS, CompileConfig, read_config
 
@@ -51,8 +52,10 @@ def test_every_stage_runs_and_is_recorded(compiled):
     assert set(state["stages"]["export"]["precision"]) == {"r0", "r1"}
     for accuracy in state["stages"]["train"]["held_out"].values():  # what the summary prints, groups included
         assert set(accuracy) == {"ap50", "pckh", "mask_iou", "recall_overlapping"}
-    for path in ("bundle/manifest.json", "run/metrics.json", "overlay.png"):
+    for path in ("bundle/manifest.json", "run/metrics.json", "overlay.png", "test_frame.png"):
         assert (output / path).is_file()
+    frame, overlay = read_image(output / "test_frame.png"), read_image(output / "overlay.png")
+    assert frame.shape == overlay.shape and not np.array_equal(frame, overlay)  # the overlay is that frame, drawn on
 
 
 def test_a_second_run_skips_finished_stages(compiled, capsys):

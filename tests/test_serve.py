@@ -260,7 +260,9 @@ def test_a_frames_result_says_how_long_its_networks_and_their_decoding_took(bund
     assert len(result.people) == 1 and result.network_s > 0 and result.decode_s > 0  # the service's histograms
 
 
-def test_a_looped_one_image_folder_is_played_at_its_rate_not_as_fast_as_it_reads(bundle, tmp_path):
+def test_a_looped_one_image_folder_is_played_at_its_rate_not_as_fast_as_it_reads(bundle, tmp_path, caplog):
+    import logging
+
     import cv2
 
     from vc.serve.config import CameraSettings
@@ -269,8 +271,11 @@ def test_a_looped_one_image_folder_is_played_at_its_rate_not_as_fast_as_it_reads
     cv2.imwrite(str(tmp_path / "frames" / "only.png"), np.zeros((64, 128, 3), np.uint8))
     camera = CameraSettings(name="gate", bundle=bundle, source=str(tmp_path / "frames"), fps=20, loop=True)
     reader = CameraReader(camera, (128, 64))
-    reader.start()
-    time.sleep(1.0)
-    reader.stop()
-    reader.join(timeout=5)
+    with caplog.at_level(logging.INFO, logger="vc.serve"):
+        reader.start()
+        time.sleep(1.0)
+        reader.stop()
+        reader.join(timeout=5)
     assert 15 <= reader.snapshot().frames_read <= 25  # 20 frames a second, across the loop's restarts
+    # its opening is logged once, not at every restart
+    assert sum("reading" in record.getMessage() for record in caplog.records) == 1

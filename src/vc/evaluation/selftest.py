@@ -75,7 +75,8 @@ class SelfTest:
     people_asked_for: int
     ms_per_frame: float  # median, after a warm-up frame
     false_alarms_on_background: int
-    overlay: np.ndarray  # the test frame with the most people, drawn with what the bundle found there
+    frame: np.ndarray  # the test frame with the most people, as the camera would give it
+    overlay: np.ndarray  # that frame drawn with what the bundle found there
 
     def to_dict(self) -> dict:
         return {"ap50": round(self.ap50, 4), "frames": self.frames, "people_asked_for": self.people_asked_for,
@@ -86,7 +87,7 @@ class SelfTest:
 def self_test(runtime: Runtime, background: np.ndarray, regions: list[RegionData], frames: int) -> SelfTest:
     false_alarms = len(runtime(background))  # also the warm-up
     results, milliseconds = [], []
-    overlay, most_people = None, -1
+    shown, overlay, most_people = None, None, -1
     for index in range(frames):
         frame = composite_frame(background, regions, index)
         start = time.perf_counter()
@@ -96,20 +97,22 @@ def self_test(runtime: Runtime, background: np.ndarray, regions: list[RegionData
                                    np.array([p.score for p in people]), truth_ignore=frame.truth_ignore))
         if (~frame.truth_ignore).sum() > most_people:
             most_people = int((~frame.truth_ignore).sum())
-            overlay = draw_people(frame.image, people, truth_boxes=frame.truth_boxes)
+            shown, overlay = frame.image, draw_people(frame.image, people, truth_boxes=frame.truth_boxes)
     evaluation = evaluate(results)
     asked = int(sum((~r.truth_ignore).sum() for r in results))
-    return SelfTest(evaluation.ap50, frames, asked, float(np.median(milliseconds)), false_alarms, overlay)
+    return SelfTest(evaluation.ap50, frames, asked, float(np.median(milliseconds)), false_alarms, shown, overlay)
 
 
 def self_test_bundle(bundle: Path, renders: Path, background: Path, settings: SelfTestSettings,
-                     overlay: Path | None = None) -> SelfTest:
+                     overlay: Path | None = None, test_frame: Path | None = None) -> SelfTest:
     """The self-test stage: ``bundle`` on ``settings.frames`` frames composed of the held-out renders in
     ``renders`` on ``background``; with ``overlay``, the frame with the most people is written there drawn with what
-    the bundle found."""
+    the bundle found, and with ``test_frame`` as it is (a frame to try the bundle on: ``vc-run``, ``vc-serve``)."""
     regions = [open_region(renders, name) for name in read_manifest(renders)["regions"]]
     with Runtime(bundle) as runtime:
         result = self_test(runtime, read_image(background), regions, settings.frames)
     if overlay is not None:
         write_image(overlay, result.overlay)
+    if test_frame is not None:
+        write_image(test_frame, result.frame)
     return result

@@ -169,7 +169,7 @@ class CameraReader(threading.Thread):
 
     def run(self) -> None:
         backoff = self.camera.reading.backoff_initial_s
-        first = True
+        first, looped = True, False
         while not self._stopping.is_set():
             if not first:
                 self._set(state="disconnected", reconnects=self.status.reconnects + 1)
@@ -182,10 +182,10 @@ class CameraReader(threading.Thread):
                 capture = _Capture(self.camera)
             except (ConnectionError, OSError) as error:
                 self._fault(str(error))
-                backoff = min(2 * backoff, self.camera.reading.backoff_max_s)
+                backoff, looped = min(2 * backoff, self.camera.reading.backoff_max_s), False
                 continue
             try:
-                read_any, ended = self._read_all(capture)
+                read_any, ended = self._read_all(capture, looped)
             finally:
                 capture.close()
             if read_any:
@@ -196,15 +196,15 @@ class CameraReader(threading.Thread):
                 self._set(state="finished")
                 log.info("camera %s: %s ended", self.camera.name, self.camera.source)
                 return
-            if ended:
-                first = True  # a looped file starts again at once: its end is no fault
+            first = looped = ended  # a looped file starts again at once: its end is no fault
         self._set(state="disconnected")  # stopped (a finished source returned above)
 
-    def _read_all(self, capture: _Capture) -> tuple[bool, bool]:
+    def _read_all(self, capture: _Capture, looped: bool) -> tuple[bool, bool]:
         """Read frames until the source ends or fails; (whether any frame was read, whether it ended as a file
-        does rather than failed)."""
+        does rather than failed). A looped file read again from its start (``looped``) is not logged again: a
+        one-image file looped at 1 frame/s would log every second."""
         self._set(state="connected", connected_since=time.monotonic(), last_error=None)
-        log.info("camera %s: reading %s", self.camera.name, self.camera.source)
+        (log.debug if looped else log.info)("camera %s: reading %s", self.camera.name, self.camera.source)
         interval = 1.0 / capture.fps if capture.paced and capture.fps else 0.0
         read_any = False
         while not self._stopping.is_set():

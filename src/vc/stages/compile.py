@@ -67,6 +67,7 @@ class Compilation:
         self.settings = {"scene": str(scene_path), "scene_hash": self.scene.content_hash, **config.to_dict()}
         self.renders, self.run_folder = self.output / "renders", self.output / "run"
         self.bundle, self.overlay = self.output / "bundle", self.output / "overlay.png"
+        self.test_frame = self.output / "test_frame.png"
         self.state = self._read_state()
 
     def run(self) -> dict:
@@ -129,7 +130,7 @@ class Compilation:
 
     def self_test(self) -> dict:
         return self_test_bundle(self.bundle, self.renders, self.scene.image_path, self.config.self_test,
-                                self.overlay).to_dict()
+                                self.overlay, self.test_frame).to_dict()
 
 
 def compile_scene(scene_path: Path, output: Path, config: CompileConfig, show_progress: bool = True,
