@@ -770,6 +770,21 @@ def test_the_fit_range_is_measured_on_the_background_at_the_camera_range_s_ends(
         fit.NOISE_CODES, fit.VEIL_SHARE, fit.CHANGED_AGREEMENT)
 
 
+def test_a_bundle_compiled_for_gain_noise_takes_more_noise_than_its_range_as_fit(background):
+    """Its networks read people through 1.6 times the noise of its highest gain (docs/decisions/0022): such a frame
+    is fit, a lost signal's noise still covered."""
+    from vc.model.camera_range import FIT_NOISE_MARGIN, CameraRange, fit_range_of
+
+    reference = SceneReference.of_background(background, DECODE)
+    measured = fit_range_of(CameraRange(), reference, background, SRGB)
+    heaviest = measured.noise_codes / FIT_NOISE_MARGIN  # the range's highest gain, as the fitness reads it
+    noisy = np.clip(background + np.random.default_rng(1).normal(0, 1.6 * heaviest, background.shape), 0, 255)
+    fitness = reference.fitness(noisy.round().astype(np.uint8), measured)
+    assert fitness.state == fit.OK and fitness.noise_codes > 1.25 * heaviest, fitness
+    lost_signal = np.random.default_rng(0).integers(0, 256, background.shape, dtype=np.uint8)
+    assert reference.fitness(lost_signal, measured).state == fit.COVERED
+
+
 def _with_fit_range(bundle: Path, background: np.ndarray, fit_range: object, output: Path) -> Path:
     manifest, files = _bundle_files(bundle)
     for region in manifest["regions"]:
