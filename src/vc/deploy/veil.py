@@ -49,8 +49,6 @@ MAX_STRETCH = 25.0
 #: the networks on a frame before its fitness is known (:class:`vc.deploy.runtime.Runtime`), and this is about what a
 #: quarter stop, the bound kept for exposure (:data:`~vc.deploy.exposure.KEPT_CORRECTION_STOPS`), moves mid-grey.
 KEPT_TABLE_CODES = 8
-#: The states whose frame may lie under a veil beyond the range (module docstring).
-VEILED_STATES = (DARK, OVEREXPOSED, COVERED)
 
 
 def veiled(fitness: FrameFitness) -> bool:
