@@ -27,8 +27,8 @@ RUNTIME_MODULES = (
     # the camera model (numpy only): a bundle's people placed on the ground (deploy/zones.py)
     "calibration/__init__.py", "calibration/camera.py", "calibration/distortion.py",
     "deploy/__init__.py", "deploy/areas.py", "deploy/boxes.py", "deploy/bundle.py", "deploy/decode.py",
-    "deploy/exposure.py", "deploy/fitness.py", "deploy/frames.py", "deploy/heatmaps.py", "deploy/runtime.py",
-    "deploy/signing.py", "deploy/tracking.py", "deploy/veil.py", "deploy/zones.py",
+    "deploy/engines.py", "deploy/exposure.py", "deploy/fitness.py", "deploy/frames.py", "deploy/heatmaps.py",
+    "deploy/runtime.py", "deploy/signing.py", "deploy/tracking.py", "deploy/veil.py", "deploy/zones.py",
     # vc-serve (the `serve` extra): the service and its command, with the commands' shared error contract
     "serve/__init__.py", "serve/config.py", "serve/events.py", "serve/health.py", "serve/mqtt.py", "serve/queue.py",
     "serve/service.py", "serve/sources.py",

@@ -80,6 +80,10 @@ def report_result(result: ExportResult, output: Path) -> None:
         print(f"  {region['name']}: crop {width}x{height} at ({x0}, {y0}) -> input "
               f"{region['input_size'][0]}x{region['input_size'][1]}, {region['network']['name']} network, "
               f"{region['precision']}")
+        outside = region["operators_outside_conservative_set"]
+        print(f"    operators: {', '.join(region['operators'])}; "
+              + (f"outside the conservative set an NPU compiler takes: {', '.join(outside)}" if outside
+                 else "all in the conservative set an NPU compiler takes"))
     for line in _accuracy_table(manifest):
         print(line)
     reference = manifest.get("reference")

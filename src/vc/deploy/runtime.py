@@ -1,4 +1,4 @@
-"""Running a bundle on full frames: numpy and onnxruntime only (an appliance has nothing else).
+"""Running a bundle on full frames: numpy and onnxruntime only (an appliance has nothing else; OpenVINO where asked).
 
 Per frame: cut each region's crop window (the graph resizes and normalises it), run the region models, decode
 their heat maps (:mod:`vc.deploy.decode`, the same code the training evaluation uses), keep the people each region
@@ -46,13 +46,13 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
-import onnxruntime as ort
 
 from vc.cores import usable_cores
 from vc.deploy.areas import ImageArea
 from vc.deploy.boxes import box_iou, foot_points
 from vc.deploy.bundle import NO_REFERENCE, Bundle, RegionEntry, load_bundle
 from vc.deploy.decode import UPRIGHT_PRIOR, DecodeConfig, DecodedPerson, UprightPrior, decode
+from vc.deploy.engines import DEFAULT_ENGINE, ENGINES, graph_session
 from vc.deploy.exposure import BROUGHT_BACK_AGREEMENT, KEPT_CORRECTION_STOPS, correction_stops, exposed
 from vc.deploy.fitness import COVERED, DARK, MOVED, OVEREXPOSED, STATES, UNFIT_STATES, FrameFitness, translated
 from vc.deploy.veil import near, unveiled, veil_tables, veiled
@@ -147,23 +147,17 @@ def just_across_seam(feet: np.ndarray, heights: np.ndarray, area: ImageArea,
 
 
 class RegionRunner:
-    """One region's model session and the mapping from its network input to frame pixels."""
+    """One region's graph, ready on its ``engine`` (:mod:`vc.deploy.engines`), and the mapping from its network
+    input to frame pixels."""
 
     def __init__(self, entry: RegionEntry, frame_size: tuple[int, int], threads: int,
-                 weak_people_above: float | None = None, neighbour_areas: tuple[dict, ...] = ()) -> None:
+                 weak_people_above: float | None = None, neighbour_areas: tuple[dict, ...] = (),
+                 engine: str = DEFAULT_ENGINE) -> None:
         self.entry = entry
         self.owned_area = ImageArea(entry.owned_image_area)
         self.neighbour_areas = tuple(ImageArea(area) for area in neighbour_areas)  # the other regions' owned areas
         self.weak_people_above = weak_people_above
-        options = ort.SessionOptions()
-        options.intra_op_num_threads = threads
-        options.inter_op_num_threads = 1
-        options.execution_mode = ort.ExecutionMode.ORT_SEQUENTIAL
-        # Regions run one after another: a session whose threads spin-wait after its run would take the cores
-        # from the next region's session.
-        options.add_session_config_entry("session.intra_op.allow_spinning", "0")
-        self.session = ort.InferenceSession(entry.model, options, providers=["CPUExecutionProvider"])
-        self.input_name = self.session.get_inputs()[0].name
+        self.graph = graph_session(engine, entry.model, threads)
         x0, y0, width, height = entry.crop_window
         self.origin = np.array([x0, y0], np.float64)
         self.scale = np.array([entry.input_size[0] / width, entry.input_size[1] / height])
@@ -174,7 +168,7 @@ class RegionRunner:
     def heatmaps(self, frame: np.ndarray) -> np.ndarray:
         x0, y0, width, height = self.entry.crop_window
         crop = np.ascontiguousarray(frame[y0:y0 + height, x0:x0 + width])
-        return self.session.run(None, {self.input_name: crop[None]})[0][0]
+        return self.graph(crop[None])[0]
 
     def to_frame(self, xy: np.ndarray) -> np.ndarray:
         """Network-input pixels -> frame pixels (pixel centres at integers in both)."""
@@ -285,15 +279,19 @@ class Runtime:
     the bundle's people only).
     ``unfit``: ``suppress`` (default) or ``flag``, the people of a frame the scene fitness finds unfit (module
     docstring).
+    ``engine``: what runs the regions' graphs, ``onnxruntime`` (default) or ``openvino`` (:mod:`vc.deploy.engines`).
     """
 
     def __init__(self, bundle: Bundle | str | Path, threads: int | None = None,
                  parallel_regions: bool | None = None, public_key: Path | bytes | None = None,
-                 weak_people_above: float | None = None, unfit: str = DEFAULT_UNFIT):
+                 weak_people_above: float | None = None, unfit: str = DEFAULT_UNFIT, engine: str = DEFAULT_ENGINE):
         if isinstance(bundle, Bundle) and public_key is not None:
             raise ValueError("a public key checks a bundle as it is loaded: give the bundle's path")
         if unfit not in UNFIT_SETTINGS:
             raise InputError(None, "unfit", f"{unfit!r} is not one of {', '.join(UNFIT_SETTINGS)}")
+        if engine not in ENGINES:
+            raise InputError(None, "engine", f"{engine!r} is not one of {', '.join(ENGINES)}")
+        self.engine = engine
         self.unfit = unfit
         #: The fitness of the last frame ``runtime(frame)`` or :meth:`run` saw (None before the first).
         self.last_fitness: FrameFitness | None = None
@@ -313,7 +311,7 @@ class Runtime:
         per_region = 1 if parallel_regions else (threads or cores)
         areas = [entry.owned_image_area for entry in self.bundle.regions]
         self.runners = [RegionRunner(entry, self.bundle.frame_size, per_region, weak_people_above,
-                                     tuple(areas[:index] + areas[index + 1:]))
+                                     tuple(areas[:index] + areas[index + 1:]), engine)
                         for index, entry in enumerate(self.bundle.regions)]
         self.pool = ThreadPoolExecutor(max_workers=threads or cores) if parallel_regions else None
 

@@ -40,6 +40,7 @@ from vc.keypoints import COCO_KEYPOINTS, COCO_SKELETON_1BASED
 from vc.model.camera_range import fit_range_of
 from vc.model.codec import expected_height_map
 from vc.model.network import ScenePoseNet
+from vc.model.operators import graph_operators, outside_conservative_set
 from vc.model.precision import choose_precision
 from vc.model.trainer import Checkpoint, TrainConfig, load_checkpoint
 from vc.render.camera_measurements import video_frames
@@ -199,6 +200,8 @@ def bundle_files(run: Path, precision: str = "fp32", eval_samples: int = 200, ca
             "ground_polygon": entry["ground_polygon"], "owned_image_area": entry["owned_image_area"],
             "reference_height_m": content["reference_height_m"], "network": config.network.to_dict(),
             "precision": choice.precision, "held_out_accuracy": choice.accuracy,
+            "operators": dict(sorted(graph_operators(choice.model).items())),
+            "operators_outside_conservative_set": outside_conservative_set(choice.model),
             "model": model_name, "model_sha256": sha256(files[model_name]),
             "expected_height": heights_name, "expected_height_sha256": sha256(files[heights_name]),
         })
