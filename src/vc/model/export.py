@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import io
 import json
+import tempfile
 import warnings
 import zipfile
 from dataclasses import asdict
@@ -25,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 import onnx
+import onnxruntime as ort
 import torch
 import torch.nn.functional as F
 from torch import Tensor, nn
@@ -78,12 +80,30 @@ def export_onnx(net: ScenePoseNet, crop_size: tuple[int, int], input_size: tuple
         warnings.simplefilter("ignore", DeprecationWarning)  # the classic exporter announces its own retirement
         torch.onnx.export(wrapper, (example,), buffer, input_names=[INPUT_NAME], output_names=[OUTPUT_NAME],
                           opset_version=OPSET, dynamo=False, do_constant_folding=True)
-    model = onnx.load_from_string(buffer.getvalue())
+    model = folded(onnx.load_from_string(buffer.getvalue()))
     for key, value in metadata.items():
         entry = model.metadata_props.add()
         entry.key, entry.value = key, value if isinstance(value, str) else json.dumps(value)
     onnx.checker.check_model(model)
     return model.SerializeToString()
+
+
+def folded(model: onnx.ModelProto) -> onnx.ModelProto:
+    """``model`` with what its fixed shapes make constant computed once: the tracer leaves the resize's target size
+    as shape arithmetic (Shape, Slice, Concat) that an NPU compiler refuses (:mod:`vc.model.operators`). onnxruntime's
+    basic, ONNX-only optimisations fold it (the same the int8 quantizer's preprocessing runs, so int8 graphs come
+    out as before); the opset imports they add for their own domains, unused, are dropped."""
+    with tempfile.TemporaryDirectory(prefix="vc-fold-") as folder:
+        options = ort.SessionOptions()
+        options.graph_optimization_level = ort.GraphOptimizationLevel.ORT_ENABLE_BASIC
+        options.optimized_model_filepath = str(Path(folder) / "folded.onnx")
+        ort.InferenceSession(model.SerializeToString(), options, providers=["CPUExecutionProvider"])
+        result = onnx.load(options.optimized_model_filepath)
+    used = {node.domain for node in result.graph.node} | {""}
+    kept = [entry for entry in result.opset_import if entry.domain in used]
+    del result.opset_import[:]
+    result.opset_import.extend(kept)
+    return result
 
 
 def _npy_bytes(array: np.ndarray) -> bytes:
