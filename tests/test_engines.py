@@ -128,3 +128,35 @@ def test_an_operator_outside_the_set_is_named():
     model = helper.make_model(graph).SerializeToString()
     assert outside_conservative_set(model) == ["Shape"]
     assert onnx.load_from_string(model).graph.node[1].op_type in CONSERVATIVE_OPERATORS
+
+
+def test_a_bundle_whose_graph_sees_markers_finds_each_marker_once_on_openvino(bundle, tmp_path):
+    """A graph built by hand (tests/serve_factory.py: a person at each white cell) runs on OpenVINO as on
+    onnxruntime: a vendor runtime reads the bundle's graphs, not only the exporter's."""
+    from serve_factory import marker_bundle, marker_frame
+
+    markers = marker_bundle(bundle, tmp_path / "markers")
+    frame = marker_frame((128, 64), [(5, 8), (20, 8)])
+    with Runtime(markers, threads=1) as ours, Runtime(markers, threads=1, engine="openvino") as theirs:
+        expected, found = ours(frame), theirs(frame)
+    assert len(found) == len(expected) == 2
+    for a, b in zip(expected, found, strict=True):
+        np.testing.assert_allclose(b.box, a.box, atol=1e-3)
+
+
+def test_vc_eval_on_openvino_scores_as_on_onnxruntime(talkative_bundle, tmp_path):
+    from test_eval import _video_and_truth
+
+    from vc.cli.eval import main as vc_eval
+
+    video, truth = _video_and_truth(tmp_path)
+    metrics = {}
+    for engine in ("onnxruntime", "openvino"):
+        assert vc_eval([str(talkative_bundle), "--video", str(video), "--gt", str(truth), "-o", str(tmp_path / engine),
+                        "--threads", "1", "--no-hog", "--engine", engine, "--quiet"]) == 0
+        metrics[engine] = json.loads((tmp_path / engine / "metrics.json").read_text())
+        assert metrics[engine]["engine"] == engine
+    ap50 = {engine: {name: detector["ap50"] for name, detector in found["detectors"].items()}
+            for engine, found in metrics.items()}
+    assert ap50["openvino"] == pytest.approx(ap50["onnxruntime"], abs=1e-6)
+

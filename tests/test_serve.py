@@ -59,6 +59,7 @@ def test_a_configuration_resolves_paths_beside_itself_and_takes_the_defaults(tmp
     (GOOD + "mqtt: {port: 99999}\n", "mqtt.port", "less than or equal to 65535"),
     (GOOD + "events: {queue_limit: 0}\n", "events.queue_limit", "greater than or equal to 1"),
     (GOOD.replace("fps: 5", "fps: 5\n    unfit: hide"), "cameras.0.unfit", "'hide' is not one of"),
+    (GOOD.replace("fps: 5", "fps: 5\n    engine: tensorrt"), "cameras.0.engine", "'tensorrt' is not one of"),
     ("cameras: [\n", "line", "not valid YAML"),
 ])
 def test_a_bad_configuration_is_one_line_naming_the_file_and_field_and_exit_status_2(tmp_path, bundle, capsys,

@@ -2,7 +2,7 @@
 
     vc-eval BUNDLE --video V --gt GT.txt -o OUT [--frames first:last:step] [--no-hog] [--hog-upscale F]
             [--external MODEL.onnx [--external-name NAME]]... [--external-size S] [--threads N]
-            [--fps F] [--no-tracking] [--unfit suppress|flag] [--quiet]
+            [--fps F] [--no-tracking] [--unfit suppress|flag] [--engine onnxruntime|openvino] [--quiet]
 
 For every selected frame each detector runs and is timed: the bundle (through :mod:`vc.deploy.runtime`, as the
 appliance runs it), OpenCV's HOG people detector, and optionally any YOLO-pose style ONNX model
@@ -29,6 +29,7 @@ from pathlib import Path
 
 from vc import __version__
 from vc.cli.common import fitness_line, handles_input_errors, positive_float, positive_int
+from vc.deploy.engines import DEFAULT_ENGINE, ENGINES
 from vc.deploy.frames import FrameRange
 from vc.deploy.runtime import DEFAULT_UNFIT, UNFIT_SETTINGS
 from vc.deploy.tracking import TrackingConfig
@@ -71,6 +72,9 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--unfit", choices=UNFIT_SETTINGS, default=DEFAULT_UNFIT,
                         help="the bundle's people on a frame the scene fitness finds unfit: withheld (suppress, the "
                              "default, as vc-run) or kept (flag); a covered frame never yields people")
+    parser.add_argument("--engine", choices=ENGINES, default=DEFAULT_ENGINE,
+                        help=f"what runs the bundle's networks (default {DEFAULT_ENGINE}; openvino: OpenVINO's CPU "
+                             "plugin)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     return parser
 
@@ -85,7 +89,7 @@ def _request(args: argparse.Namespace) -> EvaluationRequest:
                                                                                            strict=True)),
                              external_size=args.external_size, threads=args.threads,
                              tracking=None if args.no_tracking else TrackingConfig(), fps=args.fps,
-                             unfit=args.unfit)
+                             unfit=args.unfit, engine=args.engine)
 
 
 def _rates(rates: dict) -> str:

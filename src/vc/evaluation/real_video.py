@@ -31,6 +31,7 @@ import cv2
 import numpy as np
 from tqdm import tqdm
 
+from vc.deploy.engines import DEFAULT_ENGINE
 from vc.deploy.frames import FrameRange, FrameSource
 from vc.deploy.runtime import DEFAULT_UNFIT, Person, Runtime
 from vc.deploy.tracking import Tracker, TrackingConfig, tracking_rate
@@ -78,6 +79,7 @@ class EvaluationRequest:
     tracking: TrackingConfig | None = TrackingConfig()
     fps: float | None = None  # of a folder of frames (a video's is read from it); without it a folder is not tracked
     unfit: str = DEFAULT_UNFIT  # the people of an unfit frame: withheld or flagged (vc.deploy.runtime.UNFIT_SETTINGS)
+    engine: str = DEFAULT_ENGINE  # what runs the bundle's networks (vc.deploy.engines)
 
 
 @dataclass
@@ -186,7 +188,7 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
     _check_selection(source, truth, request.ground_truth)
     rate = tracking_rate(source, request.fps) if request.tracking is not None else None
     tracker = Tracker(request.tracking) if rate else None
-    with Runtime(request.bundle, threads=request.threads, unfit=request.unfit,
+    with Runtime(request.bundle, threads=request.threads, unfit=request.unfit, engine=request.engine,
                  weak_people_above=request.tracking.weak_people_above if tracker else None) as runtime:
         if request.threads:
             cv2.setNumThreads(request.threads)
@@ -248,7 +250,7 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
         "bundle": str(request.bundle), "scene": bundle.manifest["scene"], "video": str(request.video),
         "ground_truth": str(request.ground_truth), "frames": {"first": frames.first, "last": frames.last,
                                                              "step": frames.step, "count": source.count},
-        "threads": request.threads, "iou_threshold": 0.5,
+        "threads": request.threads, "engine": request.engine, "iou_threshold": 0.5,
         "tracking": tracking,
         "annotated_area": annotated_area.to_dict(),
         "detectors": {name: record.summary(evaluations[name], annotated_area.evaluate_inside(record.images))

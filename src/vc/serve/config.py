@@ -15,6 +15,7 @@ from typing import Literal
 import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
+from vc.deploy.engines import DEFAULT_ENGINE, ENGINES
 from vc.deploy.runtime import DEFAULT_UNFIT, UNFIT_SETTINGS
 from vc.errors import InputError
 
@@ -58,7 +59,8 @@ class CameraSettings(_Section):
     fps: float | None = Field(None, gt=0)
     public_key: Path | None = None  # load the bundle only if its manifest is signed by this Ed25519 key (PEM)
     unfit: str = DEFAULT_UNFIT
-    threads: int = Field(1, ge=1)  # onnxruntime threads for this camera's networks
+    threads: int = Field(1, ge=1)  # the engine's threads for this camera's networks
+    engine: str = DEFAULT_ENGINE  # what runs the networks: onnxruntime or openvino (vc.deploy.engines)
     reading: ReadingSettings = ReadingSettings()
 
     @field_validator("unfit")
@@ -66,6 +68,13 @@ class CameraSettings(_Section):
     def _known_unfit(cls, value: str) -> str:
         if value not in UNFIT_SETTINGS:
             raise ValueError(f"{value!r} is not one of {', '.join(UNFIT_SETTINGS)}")
+        return value
+
+    @field_validator("engine")
+    @classmethod
+    def _known_engine(cls, value: str) -> str:
+        if value not in ENGINES:
+            raise ValueError(f"{value!r} is not one of {', '.join(ENGINES)}")
         return value
 
     @property

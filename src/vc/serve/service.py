@@ -88,7 +88,7 @@ class CameraWorker(threading.Thread):
         self.camera, self.sink, self.metrics = camera, sink, metrics
         self.stale_after_s = config.stale_after_s(camera)
         self.tracker = Tracker()
-        self.runtime = Runtime(bundle, threads=camera.threads, unfit=camera.unfit,
+        self.runtime = Runtime(bundle, threads=camera.threads, unfit=camera.unfit, engine=camera.engine,
                                weak_people_above=self.tracker.config.weak_people_above)
         self.events = TrackEvents(camera.name, SceneZones(bundle.manifest["camera"], list(bundle.zones)),
                                   config.events.update_interval_s, self.tracker.config.coast_min_observations)
