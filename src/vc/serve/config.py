@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Literal
 
 import yaml
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, ValidationInfo, field_validator, model_validator
 
 from vc.deploy.engines import DEFAULT_ENGINE, ENGINES
 from vc.deploy.runtime import DEFAULT_UNFIT, UNFIT_SETTINGS
@@ -63,18 +63,12 @@ class CameraSettings(_Section):
     engine: str = DEFAULT_ENGINE  # what runs the networks: onnxruntime or openvino (vc.deploy.engines)
     reading: ReadingSettings = ReadingSettings()
 
-    @field_validator("unfit")
+    @field_validator("unfit", "engine")
     @classmethod
-    def _known_unfit(cls, value: str) -> str:
-        if value not in UNFIT_SETTINGS:
-            raise ValueError(f"{value!r} is not one of {', '.join(UNFIT_SETTINGS)}")
-        return value
-
-    @field_validator("engine")
-    @classmethod
-    def _known_engine(cls, value: str) -> str:
-        if value not in ENGINES:
-            raise ValueError(f"{value!r} is not one of {', '.join(ENGINES)}")
+    def _one_of_its_choices(cls, value: str, info: ValidationInfo) -> str:
+        choices = {"unfit": UNFIT_SETTINGS, "engine": ENGINES}[info.field_name]
+        if value not in choices:
+            raise ValueError(f"{value!r} is not one of {', '.join(choices)}")
         return value
 
     @property
