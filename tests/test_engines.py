@@ -106,7 +106,7 @@ def test_vc_run_on_openvino_says_so_and_finds_what_onnxruntime_finds(talkative_b
                                np.array(sum(runs["onnxruntime"], []), float).reshape(-1, 4), atol=0.05)
 
 
-def test_the_export_reports_each_graphs_operators_against_the_conservative_set(bundle, int8_bundle, capsys):
+def test_the_export_reports_each_graphs_operators_against_the_conservative_set(bundle, int8_bundle):
     for path in (bundle, int8_bundle):
         for region in json.loads((path / "manifest.json").read_text())["regions"]:
             model = (path / region["model"]).read_bytes()

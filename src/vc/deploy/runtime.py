@@ -52,7 +52,7 @@ from vc.deploy.areas import ImageArea
 from vc.deploy.boxes import box_iou, foot_points
 from vc.deploy.bundle import NO_REFERENCE, Bundle, RegionEntry, load_bundle
 from vc.deploy.decode import UPRIGHT_PRIOR, DecodeConfig, DecodedPerson, UprightPrior, decode
-from vc.deploy.engines import DEFAULT_ENGINE, ENGINES, graph_session
+from vc.deploy.engines import DEFAULT_ENGINE, checked_engine, graph_session
 from vc.deploy.exposure import BROUGHT_BACK_AGREEMENT, KEPT_CORRECTION_STOPS, correction_stops, exposed
 from vc.deploy.fitness import COVERED, DARK, MOVED, OVEREXPOSED, STATES, UNFIT_STATES, FrameFitness, translated
 from vc.deploy.veil import near, unveiled, veil_tables, veiled
@@ -289,9 +289,7 @@ class Runtime:
             raise ValueError("a public key checks a bundle as it is loaded: give the bundle's path")
         if unfit not in UNFIT_SETTINGS:
             raise InputError(None, "unfit", f"{unfit!r} is not one of {', '.join(UNFIT_SETTINGS)}")
-        if engine not in ENGINES:
-            raise InputError(None, "engine", f"{engine!r} is not one of {', '.join(ENGINES)}")
-        self.engine = engine
+        self.engine = checked_engine(engine)  # before the bundle is loaded: a bad setting costs nothing
         self.unfit = unfit
         #: The fitness of the last frame ``runtime(frame)`` or :meth:`run` saw (None before the first).
         self.last_fitness: FrameFitness | None = None
