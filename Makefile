@@ -10,15 +10,19 @@ LLVM_LIB := /usr/lib/x86_64-linux-gnu/libLLVM-19.so
 export DRJIT_LIBLLVM_PATH := $(LLVM_LIB)
 DEMO_OUT ?= out/demo
 
-# Debian packages: LLVM 19 for Mitsuba's CPU backend; for vc-serve's tests a real MQTT broker (mosquitto) and a real
-# RTSP camera (GStreamer's RTSP server, run by the system Python through its introspection bindings: tests/serve_*).
-SYSTEM_PACKAGES := libllvm19 mosquitto python3-gi gir1.2-gstreamer-1.0 gir1.2-gst-rtsp-server-1.0 gstreamer1.0-rtsp \
+# Debian packages: gcc for the C decoder (and its sanitizers); LLVM 19 for Mitsuba's CPU backend; for vc-serve's tests
+# a real MQTT broker (mosquitto) and a real RTSP camera (GStreamer's RTSP server, run by the system Python through its introspection bindings: tests/serve_*).
+SYSTEM_PACKAGES := gcc libllvm19 mosquitto python3-gi gir1.2-gstreamer-1.0 gir1.2-gst-rtsp-server-1.0 gstreamer1.0-rtsp \
 	gstreamer1.0-plugins-base gstreamer1.0-plugins-good gstreamer1.0-plugins-bad
 SUDO := $(if $(filter 0,$(shell id -u)),,sudo)
 
 .PHONY: install system-packages test test-hard test-fast demo runtime-wheel lint clean
 
-install: system-packages $(STAMP)
+# The C decoder (src/vc/deploy/native/, vc.deploy.native), built with gcc (its sanitizers too, for the tests).
+NATIVE := src/vc/deploy/native
+NATIVE_LIB := $(NATIVE)/libvc_decode.so
+
+install: system-packages $(STAMP) $(NATIVE_LIB)
 
 # Installs only what is missing (dpkg -s answers in milliseconds when all are there).
 system-packages:
@@ -33,6 +37,9 @@ $(STAMP): pyproject.toml packaging/runtime/pyproject.toml | system-packages
 	# COCO-C's corruptions, without the GUI OpenCV they ask for (pyproject.toml, the robustness extra)
 	$(PIP) install -q --no-deps imagecorruptions-imaug==1.1.5
 	touch $(STAMP)
+
+$(NATIVE_LIB): $(wildcard $(NATIVE)/vc_*.c $(NATIVE)/vc_*.h) | $(STAMP)
+	$(PY) -m vc.deploy.native
 
 test: install
 	$(PY) -m pytest -q -n 2 --dist loadgroup

@@ -169,13 +169,15 @@ def _refine_many(heatmaps: np.ndarray, rows: np.ndarray, columns: np.ndarray,
                  maps: np.ndarray | None = None) -> np.ndarray:
     """Sub-cell (x, y) of the peak at (rows[k], columns[k]) of map ``heatmaps[maps[k]]`` (``maps`` defaults to
     0, 1, 2, ...: one map per peak): the vertex of a parabola through the peak and its neighbours along each
-    axis (no shift at the border, or where the values do not curve down). ``heatmaps`` may be one map broadcast
-    to every peak."""
+    axis (no shift at the border, or where the values do not curve down), in float64. ``heatmaps`` may be one map
+    broadcast to every peak."""
     index = np.arange(len(rows)) if maps is None else maps
     _, height, width = heatmaps.shape
-    peak = heatmaps[index, rows, columns]
+    # in float64: float32 maps' largest values overflow float32's arithmetic, and the vertex would be NaN
+    peak = heatmaps[index, rows, columns].astype(np.float64)
 
     def shift(before: np.ndarray, after: np.ndarray, inside: np.ndarray) -> np.ndarray:
+        before, after = before.astype(np.float64), after.astype(np.float64)
         curvature = before - 2.0 * peak + after
         curved = inside & (curvature < 0)
         # the division only where the result is used: no warnings to silence, which costs more than the arithmetic
@@ -191,6 +193,32 @@ def _refine_many(heatmaps: np.ndarray, rows: np.ndarray, columns: np.ndarray,
     refined[:, 1] = rows + shift(heatmaps[index, up, columns], heatmaps[index, down, columns],
                                  (rows > 0) & (rows < height - 1))
     return refined
+
+
+#: The tallest expected person height the decoders accept, in network-input pixels (the C decoder's
+#: VC_MAX_HEIGHT_PX): beyond it a region's camera model is broken.
+MAX_EXPECTED_HEIGHT_PX = 100_000.0
+
+
+def check_decodable(heatmaps: np.ndarray, expected_height_px: np.ndarray | None) -> None:
+    """Refuses (ValueError) heat maps (C, h, w) in none of the :data:`~vc.deploy.heatmaps.LAYOUTS`, or holding NaN
+    or infinite values (a network emitting them is broken: nothing read from them would mean anything), and
+    expected heights that are not finite and within (0, :data:`MAX_EXPECTED_HEIGHT_PX`] or not one per heat-map
+    cell. The C decoder refuses the same (:mod:`vc.deploy.native`)."""
+    channels = heatmaps.shape[0]
+    if channels == ANATOMICAL_CHANNELS:
+        raise ValueError(f"heat maps have {channels} channels, the layout of networks from before the handedness "
+                         f"maps, which this version does not decode (docs/decisions/0003-decoder-settings.md)")
+    if channels not in LAYOUTS:
+        raise ValueError(f"heat maps have {channels} channels; a ScenePoseNet emits one of the layouts {LAYOUTS}")
+    if not np.isfinite(heatmaps).all():
+        raise ValueError("heat maps hold NaN or infinite values")
+    if expected_height_px is not None:
+        if expected_height_px.shape != heatmaps.shape[1:]:
+            raise ValueError(f"expected heights of shape {expected_height_px.shape} for heat maps of "
+                             f"{heatmaps.shape[1:]}")
+        if not ((expected_height_px > 0) & (expected_height_px <= MAX_EXPECTED_HEIGHT_PX)).all():
+            raise ValueError(f"expected heights must be finite and within (0, {MAX_EXPECTED_HEIGHT_PX:g}] px")
 
 
 def find_peaks(heatmap: np.ndarray, threshold: float, limit: int | None = None) -> list[tuple[float, np.ndarray]]:
@@ -268,11 +296,7 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     which come out as they would without them."""
     stride = config.stride
     channels, height, width = heatmaps.shape
-    if channels == ANATOMICAL_CHANNELS:
-        raise ValueError(f"heat maps have {channels} channels, the layout of networks from before the handedness "
-                         f"maps, which this version does not decode (docs/decisions/0003-decoder-settings.md)")
-    if channels not in LAYOUTS:
-        raise ValueError(f"heat maps have {channels} channels; a ScenePoseNet emits one of the layouts {LAYOUTS}")
+    check_decodable(heatmaps, expected_height_px)
 
     def heights_px_at(xy_cells: np.ndarray) -> np.ndarray:
         if expected_height_px is None:
@@ -281,7 +305,9 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
         columns = np.minimum(np.maximum(np.round(xy_cells[:, 0]).astype(int), 0), width - 1)
         return expected_height_px[rows, columns].astype(float)
 
-    floor = config.centre_threshold if weak_above is None else min(weak_above, config.centre_threshold)
+    # a Python float: numpy compares float32 maps with it in float32 (as the C decoder does), with a numpy scalar
+    # in float64
+    floor = float(config.centre_threshold if weak_above is None else min(weak_above, config.centre_threshold))
     centre_map = heatmaps[CENTRE_CHANNEL]
     peaks = find_peaks(centre_map, floor, config.max_people)
 
@@ -511,7 +537,8 @@ def _vote_centres(voted: np.ndarray, weights: np.ndarray, vote_heights: np.ndarr
     distances = np.hypot(voted[:, None, 0] - peaks[None, :, 0], voted[:, None, 1] - peaks[None, :, 1])  # (M, N)
     separation = config.min_centre_separation if config.vote_separation is None else config.vote_separation
     claims = distances <= separation * peak_heights[None]
-    unsupported = share @ claims < config.vote_support  # (N,): peaks that few pixels vote for
+    unsupported = _ordered_sum(np.where(claims, share[:, None], 0.0)) < config.vote_support  # (N,): peaks that
+    # few pixels vote for
     cells = np.round(voted).astype(int)
     free = ~claims.any(axis=1) & (cells[:, 0] >= 0) & (cells[:, 0] < width) & (cells[:, 1] >= 0) & (
         cells[:, 1] < height)
@@ -519,7 +546,8 @@ def _vote_centres(voted: np.ndarray, weights: np.ndarray, vote_heights: np.ndarr
     added: list[np.ndarray] = []
     if not free.any():
         return moved, added
-    radius = max(1, int(round(separation * _median(vote_heights[free]))))
+    # (a window wider than the map sums what one as wide as the map sums: the radius stops there)
+    radius = min(max(1, int(round(separation * _median(vote_heights[free])))), max(height, width))
     votes_map = np.zeros(shape)
     np.add.at(votes_map, (cells[free, 1], cells[free, 0]), share[free])
     support = _window_sums(votes_map, radius)
@@ -528,8 +556,8 @@ def _vote_centres(voted: np.ndarray, weights: np.ndarray, vote_heights: np.ndarr
         if support[row, column] < config.vote_support:
             break
         members = free & (np.abs(cells[:, 0] - column) <= radius) & (np.abs(cells[:, 1] - row) <= radius)
-        weights = share[members, None]  # np.average's own arithmetic, without its argument checks
-        centre = np.multiply(voted[members], weights).sum(axis=0) / weights.sum(axis=0)
+        weights = share[members, None]  # np.average's arithmetic, summed in order
+        centre = _ordered_sum(np.multiply(voted[members], weights)) / _ordered_sum(weights)
         np.add.at(votes_map, (cells[members, 1], cells[members, 0]), -share[members])
         _update_window_sums(support, votes_map, radius, row, column)
         free &= ~members
@@ -543,6 +571,13 @@ def _vote_centres(voted: np.ndarray, weights: np.ndarray, vote_heights: np.ndarr
     return moved, added
 
 
+def _ordered_sum(values: np.ndarray) -> np.ndarray:
+    """The sum over the first axis, adding in index order: numpy's own sum adds pairwise or in whatever order its
+    loops run, a rounding another implementation cannot follow (the C decoder, :mod:`vc.deploy.native`, adds in
+    order), and these sums decide who is a person."""
+    return np.cumsum(values, axis=0)[-1] if len(values) else np.zeros(values.shape[1:])
+
+
 def _median(values: np.ndarray) -> float:
     """``np.median`` of a 1-D array, without its generality's cost (a tenth of the decoder's vote step)."""
     ordered = np.sort(values)
@@ -552,14 +587,17 @@ def _median(values: np.ndarray) -> float:
 
 def _window_sums(grid: np.ndarray, radius: int) -> np.ndarray:
     """The sum of ``grid`` over the (2 radius + 1)^2 window around each cell (zeros beyond the border), from a
-    summed-area table."""
-    side = 2 * radius + 1
+    summed-area table. Along an axis the radius stops at the grid's extent, beyond which it changes no sum (not
+    one bit: the table's sums beyond the grid are its last ones)."""
     height, width = grid.shape
-    table = np.zeros((height + side, width + side))  # a zero row and column, then the grid padded by the radius
-    table[radius + 1:radius + 1 + height, radius + 1:radius + 1 + width] = grid  # (np.pad's generality costs more
-    table.cumsum(axis=0, out=table)                                              # than the sums, every round)
+    row_radius, column_radius = min(radius, height), min(radius, width)
+    row_side, column_side = 2 * row_radius + 1, 2 * column_radius + 1
+    table = np.zeros((height + row_side, width + column_side))  # a zero row and column, then the padded grid
+    table[row_radius + 1:row_radius + 1 + height, column_radius + 1:column_radius + 1 + width] = grid  # (np.pad's
+    table.cumsum(axis=0, out=table)                              # generality costs more than the sums, every round)
     table.cumsum(axis=1, out=table)
-    return table[side:, side:] - table[:-side, side:] - table[side:, :-side] + table[:-side, :-side]
+    return (table[row_side:, column_side:] - table[:-row_side, column_side:] - table[row_side:, :-column_side]
+            + table[:-row_side, :-column_side])
 
 
 def _update_window_sums(sums: np.ndarray, grid: np.ndarray, radius: int, row: int, column: int) -> None:

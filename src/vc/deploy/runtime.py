@@ -48,6 +48,7 @@ from pathlib import Path
 import numpy as np
 
 from vc.cores import usable_cores
+from vc.deploy import native
 from vc.deploy.areas import ImageArea
 from vc.deploy.boxes import box_iou, foot_points
 from vc.deploy.bundle import NO_REFERENCE, Bundle, RegionEntry, load_bundle
@@ -55,6 +56,7 @@ from vc.deploy.decode import UPRIGHT_PRIOR, DecodeConfig, DecodedPerson, Upright
 from vc.deploy.engines import DEFAULT_ENGINE, checked_engine, graph_session
 from vc.deploy.exposure import BROUGHT_BACK_AGREEMENT, KEPT_CORRECTION_STOPS, correction_stops, exposed
 from vc.deploy.fitness import COVERED, DARK, MOVED, OVEREXPOSED, STATES, UNFIT_STATES, FrameFitness, translated
+from vc.deploy.native import checked_decoder
 from vc.deploy.veil import near, unveiled, veil_tables, veiled
 from vc.errors import InputError
 
@@ -152,8 +154,9 @@ class RegionRunner:
 
     def __init__(self, entry: RegionEntry, frame_size: tuple[int, int], threads: int,
                  weak_people_above: float | None = None, neighbour_areas: tuple[dict, ...] = (),
-                 engine: str = DEFAULT_ENGINE) -> None:
+                 engine: str = DEFAULT_ENGINE, decoder: str | None = None) -> None:
         self.entry = entry
+        self.decode = native.decode if checked_decoder(decoder) == "c" else decode
         self.owned_area = ImageArea(entry.owned_image_area)
         self.neighbour_areas = tuple(ImageArea(area) for area in neighbour_areas)  # the other regions' owned areas
         self.weak_people_above = weak_people_above
@@ -189,8 +192,8 @@ class RegionRunner:
         """The people this region owns in its heat maps, decoded with the bundle's settings or ``config`` (and
         ``prior``), kept across a seam within ``seam_tolerance`` (:func:`just_across_seam`); with
         ``weak_people_above``, also the weaker centre peaks down to it, flagged ``weak``."""
-        decoded = decode(heatmaps, config or self.entry.decode, self.entry.expected_height_px, self.weak_people_above,
-                         prior)
+        decoded = self.decode(heatmaps, config or self.entry.decode, self.entry.expected_height_px,
+                              self.weak_people_above, prior)
         if not decoded:
             return []
         boxes = self.to_frame(np.array([person.box for person in decoded]).reshape(-1, 2)).reshape(-1, 4)
@@ -280,16 +283,20 @@ class Runtime:
     ``unfit``: ``suppress`` (default) or ``flag``, the people of a frame the scene fitness finds unfit (module
     docstring).
     ``engine``: what runs the regions' graphs, ``onnxruntime`` (default) or ``openvino`` (:mod:`vc.deploy.engines`).
+    ``decoder``: what turns heat maps into people, ``c`` (the default where it is built) or ``numpy``
+    (:mod:`vc.deploy.native`): the same people.
     """
 
     def __init__(self, bundle: Bundle | str | Path, threads: int | None = None,
                  parallel_regions: bool | None = None, public_key: Path | bytes | None = None,
-                 weak_people_above: float | None = None, unfit: str = DEFAULT_UNFIT, engine: str = DEFAULT_ENGINE):
+                 weak_people_above: float | None = None, unfit: str = DEFAULT_UNFIT, engine: str = DEFAULT_ENGINE,
+                 decoder: str | None = None):
         if isinstance(bundle, Bundle) and public_key is not None:
             raise ValueError("a public key checks a bundle as it is loaded: give the bundle's path")
         if unfit not in UNFIT_SETTINGS:
             raise InputError(None, "unfit", f"{unfit!r} is not one of {', '.join(UNFIT_SETTINGS)}")
         self.engine = checked_engine(engine)  # before the bundle is loaded: a bad setting costs nothing
+        self.decoder = checked_decoder(decoder)
         self.unfit = unfit
         #: The fitness of the last frame ``runtime(frame)`` or :meth:`run` saw (None before the first).
         self.last_fitness: FrameFitness | None = None
@@ -309,7 +316,7 @@ class Runtime:
         per_region = 1 if parallel_regions else (threads or cores)
         areas = [entry.owned_image_area for entry in self.bundle.regions]
         self.runners = [RegionRunner(entry, self.bundle.frame_size, per_region, weak_people_above,
-                                     tuple(areas[:index] + areas[index + 1:]), engine)
+                                     tuple(areas[:index] + areas[index + 1:]), engine, self.decoder)
                         for index, entry in enumerate(self.bundle.regions)]
         self.pool = ThreadPoolExecutor(max_workers=threads or cores) if parallel_regions else None
 
