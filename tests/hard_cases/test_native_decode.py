@@ -172,3 +172,53 @@ def test_the_library_loaded_is_the_one_named():
     """Under tests/test_native_sanitizers.py the sanitized build is the one these tests run."""
     named = os.environ.get(native.LIBRARY_VARIABLE)
     assert native.library_path() == (native.LIBRARY if not named else native.Path(named))
+
+
+@pytest.mark.parametrize("edit", ["truncated", "another version", "a value missing", "a word for a number",
+                                  "a height out of range", "one value too many", "empty"])
+def test_a_damaged_decoder_file_is_refused_with_its_line(tmp_path, edit):
+    lines = small_decoder_file().decode().splitlines()
+    damaged = {"truncated": lambda: lines[:len(lines) // 2],
+               "another version": lambda: ["visual-compiler-decoder 2", *lines[1:]],
+               "a value missing": lambda: [lines[0], "frame_size 768", *lines[2:]],
+               "a word for a number": lambda: [line.replace("stride 4", "stride four") for line in lines],
+               "a height out of range": lambda: [*lines[:-2], "0 " + lines[-2], lines[-1]],
+               "one value too many": lambda: [*lines, "end"],
+               "empty": lambda: []}[edit]()
+    path = tmp_path / "decoder.txt"
+    path.write_text("\n".join(damaged) + "\n")
+    with pytest.raises(ValueError, match=r"line \d+: the decoder file is malformed"):
+        native.read_decoder_file(path)
+
+
+def small_decoder_file() -> bytes:
+    """The decoder file of a two-region bundle's manifest and height maps (no networks: the file does not hold
+    them)."""
+    import io
+
+    from vc.deploy.decoder_file import decoder_file
+
+    files, regions = {}, []
+    for index, shape in enumerate([(6, 9), (3, 4)]):
+        buffer = io.BytesIO()
+        np.save(buffer, np.linspace(12.5, 60.25, np.prod(shape), dtype=np.float32).reshape(shape))
+        files[f"models/r{index}.heights.npy"] = buffer.getvalue()
+        regions.append({"name": f"r{index}", "crop_window": [0, 40 * index, 36, 24], "input_size": [36, 24],
+                        "decode": {"vote_separation": 0.25 if index else None},
+                        "expected_height": f"models/r{index}.heights.npy"})
+    manifest = {"frame_size": [64, 48], "output": {"channels": ["map"] * LAYOUTS[-1]}, "regions": regions}
+    return decoder_file(manifest, files)
+
+
+def test_a_decoder_file_reads_back_exactly_in_c(tmp_path):
+    (tmp_path / "decoder.txt").write_bytes(small_decoder_file())
+    frame_size, regions = native.read_decoder_file(tmp_path / "decoder.txt")
+    assert frame_size == (64, 48) and [region.name for region in regions] == ["r0", "r1"]
+    assert regions[1].config == DecodeConfig(vote_separation=0.25) and regions[0].config == DecodeConfig()
+    np.testing.assert_array_equal(regions[1].expected_height_px,
+                                  np.linspace(12.5, 60.25, 12, dtype=np.float32).reshape(3, 4))
+
+
+def test_a_missing_decoder_file_is_refused(tmp_path):
+    with pytest.raises(ValueError, match="cannot be read"):
+        native.read_decoder_file(tmp_path / "decoder.txt")

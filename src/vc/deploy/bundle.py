@@ -1,6 +1,6 @@
-"""The bundle an appliance embeds: ``manifest.json`` + ``models/<region>.onnx`` + ``models/<region>.heights.npy``
-(+ ``reference/background.npz``, the scene's background as scene fitness measures frames against it), as a folder or
-a zip of one (numpy and the standard library only).
+"""The bundle an appliance embeds: ``manifest.json`` + ``models/<region>.onnx`` + ``models/<region>.heights.npy`` +
+``decoder.txt`` (+ ``reference/background.npz``, the scene's background as scene fitness measures frames against it),
+as a folder or a zip of one (numpy and the standard library only).
 
 Nothing is loaded before the whole bundle checks out: with a public key, the manifest's signature
 (:mod:`vc.deploy.signing`); the format and its version, every field the runtime reads, every listed file present,
@@ -18,6 +18,9 @@ scene, or before scene fitness, loads as before, without a reference, and its fr
 reference that does not fit the bundle's frames is refused by name. Its optional ``fit_range`` is how far frames may
 depart from the background and still be fit, what the networks were compiled to see
 (:class:`~vc.deploy.fitness.FitRange`; absent: the background's one look).
+
+The manifest's optional ``decoder_file`` names the flat file a decoder outside Python reads
+(:mod:`vc.deploy.decoder_file`), checked like every member.
 
 The manifest's optional ``zones`` are the scene's named areas, in frame pixels or on the ground, that a service
 reports people entering and leaving (:mod:`vc.deploy.zones`); a malformed zone is refused by name.
@@ -199,6 +202,8 @@ def load_bundle(path: str | Path, public_key: Path | bytes | None = None) -> Bun
             precision=str(entry.get("precision", "fp32"))))  # bundles before precisions were all fp32
     if not regions:
         raise InputError(path, f"{MANIFEST}: regions", "the bundle has no regions")
+    if "decoder_file" in manifest:  # optional: bundles exported before it lack it, and load as before
+        _checked(files, manifest, "decoder_file", f"{MANIFEST}: ")
     return Bundle(path, manifest, regions, _reference(files, manifest, path), _fit_range(manifest, path),
                   tuple(zones_from_manifest(manifest, path)))
 

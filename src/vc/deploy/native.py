@@ -16,6 +16,7 @@ import functools
 import os
 import subprocess
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -57,6 +58,30 @@ class _Person(ctypes.Structure):
                 ("pair_handedness", ctypes.c_float * _PAIRS), ("weak", ctypes.c_int)]
 
 
+class _Region(ctypes.Structure):
+    _fields_ = [("name", ctypes.c_char * 64), ("crop_window", ctypes.c_int * 4), ("input_size", ctypes.c_int * 2),
+                ("channels", ctypes.c_int), ("heatmap_size", ctypes.c_int * 2), ("config", _Config),
+                ("expected_height_px", ctypes.POINTER(ctypes.c_float))]
+
+
+class _Bundle(ctypes.Structure):
+    _fields_ = [("version", ctypes.c_int), ("frame_size", ctypes.c_int * 2), ("region_count", ctypes.c_int),
+                ("regions", ctypes.POINTER(_Region))]
+
+
+@dataclass(frozen=True)
+class DecoderFileRegion:
+    """One region of a bundle's decoder file as the C decoder reads it (:func:`read_decoder_file`)."""
+
+    name: str
+    crop_window: tuple[int, int, int, int]
+    input_size: tuple[int, int]
+    channels: int
+    config: DecodeConfig
+    prior: UprightPrior
+    expected_height_px: np.ndarray  # (h, w) float32
+
+
 class DecoderNotBuilt(RuntimeError):
     """The C decoder was asked for where its library is not built (or does not load)."""
 
@@ -78,6 +103,10 @@ def _library(path: Path) -> ctypes.CDLL | None:
     library.vc_decode.argtypes = [ctypes.c_void_p, ctypes.c_int, ctypes.c_int, ctypes.c_int, ctypes.POINTER(_Config),
                                   ctypes.c_void_p, ctypes.c_double, ctypes.POINTER(_Person), ctypes.c_int,
                                   ctypes.POINTER(ctypes.c_int), ctypes.c_void_p, ctypes.c_void_p]
+    library.vc_bundle_read.restype = ctypes.c_int
+    library.vc_bundle_read.argtypes = [ctypes.c_char_p, ctypes.POINTER(_Bundle), ctypes.POINTER(ctypes.c_int)]
+    library.vc_bundle_free.restype = None
+    library.vc_bundle_free.argtypes = [ctypes.POINTER(_Bundle)]
     library.vc_status_message.restype = ctypes.c_char_p
     library.vc_status_message.argtypes = [ctypes.c_int]
     return library
@@ -153,6 +182,34 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig | None = None,
             mask_cells=owner == index, pair_handedness=np.array(person.pair_handedness[:], np.float32),
             weak=bool(person.weak)))
     return decoded
+
+
+def read_decoder_file(path: Path) -> tuple[tuple[int, int], list[DecoderFileRegion]]:
+    """A bundle's decoder file (:mod:`vc.deploy.decoder_file`) as the C decoder reads it: the frame size and the
+    regions. A file it refuses raises ValueError naming the line at fault."""
+    library = _library(library_path())
+    if library is None:
+        raise DecoderNotBuilt(f"the C decoder is not built ({library_path()})")
+    bundle, line = _Bundle(), ctypes.c_int(0)
+    status = library.vc_bundle_read(str(path).encode(), ctypes.byref(bundle), ctypes.byref(line))
+    if status != 0:
+        raise ValueError(f"{path}, line {line.value}: {library.vc_status_message(status).decode()}")
+    try:
+        regions = []
+        for index in range(bundle.region_count):
+            region = bundle.regions[index]
+            width, height = region.heatmap_size
+            config = {name: getattr(region.config, name) for name, _ in _Config._fields_
+                      if name not in ("prior_offsets", "prior_lower_ankle")}
+            config["vote_separation"] = None if np.isnan(config["vote_separation"]) else config["vote_separation"]
+            regions.append(DecoderFileRegion(
+                region.name.decode(), tuple(region.crop_window), tuple(region.input_size), region.channels,
+                DecodeConfig(**config), UprightPrior(np.array(region.config.prior_offsets[:]),
+                                                     region.config.prior_lower_ankle),
+                np.ctypeslib.as_array(region.expected_height_px, (height, width)).copy()))
+        return (bundle.frame_size[0], bundle.frame_size[1]), regions
+    finally:
+        library.vc_bundle_free(ctypes.byref(bundle))
 
 
 def build(output: Path = LIBRARY, sanitize: bool = False, compiler: str | None = None) -> Path:

@@ -33,6 +33,7 @@ from torch import Tensor, nn
 
 from vc.calibration.camera import camera_from_dict
 from vc.deploy.bundle import BUNDLE_FORMAT, BUNDLE_FORMAT_VERSION, MANIFEST, MODELS, REFERENCE, REFERENCE_MEMBER, sha256
+from vc.deploy.decoder_file import DECODER_FILE, decoder_file
 from vc.deploy.fitness import FitRange, SceneReference
 from vc.deploy.heatmaps import channel_names
 from vc.deploy.signing import SIGNATURE, sign_manifest
@@ -236,6 +237,8 @@ def bundle_files(run: Path, precision: str = "fp32", eval_samples: int = 200, ca
         "keypoints": list(COCO_KEYPOINTS), "skeleton": [list(pair) for pair in COCO_SKELETON_1BASED],
         "regions": regions, "versions": package_versions(),
     }
+    files[DECODER_FILE] = decoder_file(manifest, files)
+    manifest = {**manifest, "decoder_file": DECODER_FILE, "decoder_file_sha256": sha256(files[DECODER_FILE])}
     if scene is not None:
         reference, background = scene_reference(scene), read_image(scene.image_path)
         frames = video_frames(scene) if scene.video_path is not None else []
