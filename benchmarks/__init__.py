@@ -5,6 +5,7 @@
 - ``model_speed``: training images/s and PyTorch inference ms of each network architecture.
 - ``render_throughput``: labelled samples per second per region and spp, and where the render time goes.
 - ``runtime_latency``: a bundle's ms per frame and memory per precision, as an appliance runs it.
+- ``decode_speed``: decoding time per real frame, the C decoder against numpy's, and whether they agree.
 - ``runtime_interleaved``: ms per real frame of several bundles timed frame by frame in one process.
 - ``lighting_recovery``: how well the light is recovered from one background rendered under known light.
 - ``robustness``: AP50 and false people under COCO-C's corruptions and a camera's everyday changes, beside YOLO-pose.

@@ -1,15 +1,15 @@
 """``vc-run``: a bundle on real frames, as an appliance would run it.
 
     vc-run BUNDLE INPUT -o OUT [--frames first:last:step] [--overlay] [--threads N] [--[no-]parallel-regions]
-           [--fps F] [--no-tracking] [--unfit suppress|flag] [--engine onnxruntime|openvino] [--public-key KEY.pub]
-           [--quiet]
+           [--fps F] [--no-tracking] [--unfit suppress|flag] [--engine onnxruntime|openvino] [--decoder c|numpy]
+           [--public-key KEY.pub] [--quiet]
 
 INPUT is an image, a folder of images or a video file. Writes ``OUT/detections.jsonl`` (one line per frame: its
 number, name, scene fitness — state, the reason of an unfit one and the numbers measured, :mod:`vc.deploy.fitness`
 — and people with box, score, 17 keypoints with confidences, mask area, the network's handedness and, when
 tracked, the track, whether the person was carried by it unseen and what decided which way they face; on an unfit
 frame under ``--unfit flag``, the frame's state), ``OUT/summary.json`` (frames, people, frames per fitness state,
-milliseconds per frame, the engine) and with ``--overlay`` the frames drawn with their detections
+milliseconds per frame, the engine and the decoder) and with ``--overlay`` the frames drawn with their detections
 (``OUT/overlay.mp4`` for a video, ``OUT/overlays/<name>.png`` otherwise). OUT appears complete or not at all. Bad
 input (a damaged bundle, an unreadable or empty video, frames of another size than the bundle's camera) prints
 one ``error:`` line and exits with status 2.
@@ -31,6 +31,7 @@ from vc import __version__
 from vc.cli.common import fitness_line, handles_input_errors, positive_float, positive_int
 from vc.deploy.engines import DEFAULT_ENGINE, ENGINES
 from vc.deploy.frames import Frame, FrameRange, FrameSource
+from vc.deploy.native import DECODERS
 from vc.deploy.runtime import DEFAULT_UNFIT, UNFIT_SETTINGS, Runtime
 from vc.deploy.tracking import Tracker, tracking_rate
 from vc.errors import InputError
@@ -53,6 +54,9 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--engine", choices=ENGINES, default=DEFAULT_ENGINE,
                         help=f"what runs the regions' graphs (default {DEFAULT_ENGINE}; openvino: OpenVINO's CPU "
                              "plugin, pip install openvino)")
+    parser.add_argument("--decoder", choices=DECODERS, default=None,
+                        help="what turns heat maps into people (default: c where it is built, else numpy; the same "
+                             "people: vc.deploy.native)")
     parser.add_argument("--public-key", type=Path, default=None, metavar="KEY.pub",
                         help="run the bundle only if its manifest is signed by this Ed25519 public key (PEM)")
     parser.add_argument("--parallel-regions", action=argparse.BooleanOptionalAction, default=None,
@@ -102,6 +106,7 @@ def main(argv: list[str] | None = None) -> int:
     tracker = Tracker() if rate else None
     with Runtime(args.bundle, threads=args.threads, parallel_regions=args.parallel_regions,
                  public_key=args.public_key, unfit=args.unfit, engine=args.engine,
+                 decoder=args.decoder,
                  weak_people_above=tracker.config.weak_people_above if tracker else None) as runtime:
         width, height = runtime.bundle.frame_size
         milliseconds, people_count, coasted_count, fitnesses = [], 0, 0, []
@@ -135,6 +140,7 @@ def main(argv: list[str] | None = None) -> int:
                 "input_kind": source.kind, "frames": len(milliseconds), "people": people_count,
                 "regions": [{"name": r.name, "precision": r.precision} for r in runtime.bundle.regions],
                 "threads": args.threads, "parallel_regions": runtime.pool is not None, "engine": runtime.engine,
+                "decoder": runtime.decoder,
                 "tracking": ({"fps": rate, "config": asdict(tracker.config), "tracks": tracker.next_identity - 1,
                               "people_carried": coasted_count} if tracker else None),
                 "fitness": runtime.fitness_summary(fitnesses),
@@ -144,7 +150,8 @@ def main(argv: list[str] | None = None) -> int:
             write_json(staging / SUMMARY, summary)
     timing = summary["ms_per_frame"]
     print(f"vc-run: {summary['frames']} frame(s), {people_count} people, {timing['median']:.1f} ms/frame median "
-          f"({timing['mean']:.1f} mean, first frame included, {summary['engine']}) -> {args.output}")
+          f"({timing['mean']:.1f} mean, first frame included, {summary['engine']}, {summary['decoder']} decoder) -> "
+          f"{args.output}")
     if summary["tracking"]:
         tracking = summary["tracking"]
         print(f"  tracked at {tracking['fps']:g} frames/s: {tracking['tracks']} tracks, "
