@@ -92,3 +92,11 @@ def test_the_runtime_wheel_runs_a_bundle_with_numpy_and_onnxruntime_only(runtime
     assert set(report["loaded"]) <= ALLOWED_MODULES, f"loaded beyond the allowlist: {report['loaded']}"
     assert report["absent"] == list(ABSENT)
     assert "'video' extra" in report["frames_error"]
+
+
+def test_the_runtime_wheel_ships_the_c_decoder_as_source_and_builds_it_where_installed(runtime_venv):
+    default = [str(runtime_venv), "-c", "from vc.deploy import native; print(native.default_decoder())"]
+    assert subprocess.run(default, capture_output=True, text=True, check=True).stdout.strip() == "numpy"
+    built = subprocess.run([str(runtime_venv), "-m", "vc.deploy.native"], capture_output=True, text=True)
+    assert built.returncode == 0, built.stderr
+    assert subprocess.run(default, capture_output=True, text=True, check=True).stdout.strip() == "c"

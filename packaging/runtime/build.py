@@ -28,6 +28,8 @@ RUNTIME_MODULES = (
     "calibration/__init__.py", "calibration/camera.py", "calibration/distortion.py",
     "deploy/__init__.py", "deploy/areas.py", "deploy/boxes.py", "deploy/bundle.py", "deploy/decode.py",
     "deploy/engines.py", "deploy/exposure.py", "deploy/fitness.py", "deploy/frames.py", "deploy/heatmaps.py",
+    # the C decoder: its ctypes binding and its sources, built where the wheel is installed (python -m vc.deploy.native)
+    "deploy/native.py", "deploy/native/vc_decode.h", "deploy/native/vc_decode.c", "deploy/native/vc_bundle.c",
     "deploy/runtime.py", "deploy/signing.py", "deploy/tracking.py", "deploy/veil.py", "deploy/zones.py",
     # vc-serve (the `serve` extra): the service and its command, with the commands' shared error contract
     "serve/__init__.py", "serve/config.py", "serve/events.py", "serve/health.py", "serve/mqtt.py", "serve/queue.py",
