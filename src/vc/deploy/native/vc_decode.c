@@ -113,22 +113,31 @@ static int maxima_in(const float *maps, int count, int height, int width, float 
     return VC_OK;
 }
 
-/* By map, then strongest first; stable (a merge sort: equal peaks keep their order). */
-static int peak_before(const peak *a, const peak *b) {
-    if (a->map != b->map) return a->map < b->map;
-    return a->value > b->value;
-}
-
-static void merge_sort_peaks(peak *items, peak *scratch, size_t count) {
+/* A stable merge sort of count items of size bytes (equal items keep their order, as numpy's stable sorts do);
+ * before(a, b): whether a goes before b. scratch: room for count items. */
+static void stable_sort(void *items, void *scratch, size_t count, size_t size,
+                        int (*before)(const void *, const void *)) {
     if (count < 2) return;
     size_t half = count / 2;
-    merge_sort_peaks(items, scratch, half);
-    merge_sort_peaks(items + half, scratch, count - half);
+    char *base = items, *out = scratch;
+    stable_sort(base, scratch, half, size, before);
+    stable_sort(base + half * size, scratch, count - half, size, before);
     size_t i = 0, j = half, k = 0;
-    while (i < half && j < count) scratch[k++] = peak_before(&items[j], &items[i]) ? items[j++] : items[i++];
-    while (i < half) scratch[k++] = items[i++];
-    while (j < count) scratch[k++] = items[j++];
-    memcpy(items, scratch, count * sizeof(peak));
+    while (i < half && j < count) {
+        size_t from = before(base + j * size, base + i * size) ? j++ : i++;
+        memcpy(out + k++ * size, base + from * size, size);
+    }
+    memcpy(out + k * size, base + i * size, (half - i) * size);
+    k += half - i;
+    memcpy(out + k * size, base + j * size, (count - j) * size);
+    memcpy(items, scratch, count * size);
+}
+
+/* By map, then strongest first. */
+static int peak_before(const void *a, const void *b) {
+    const peak *p = a, *q = b;
+    if (p->map != q->map) return p->map < q->map;
+    return p->value > q->value;
 }
 
 /* The parabola's vertex along one axis, in float64 (no shift at the border or where the values do not curve
@@ -159,7 +168,7 @@ static int local_maxima(const float *maps, int count, int height, int width, flo
         if (maxima_in(maps, count, height, width, threshold, windows[w], out) != VC_OK) return VC_ERROR_MEMORY;
     peak *scratch = allocate(out->count, sizeof(peak));
     if (!scratch) return VC_ERROR_MEMORY;
-    merge_sort_peaks(out->items, scratch, out->count);
+    stable_sort(out->items, scratch, out->count, sizeof(peak), peak_before);
     free(scratch);
     if (limit >= 0) {
         size_t kept = 0;
@@ -440,19 +449,8 @@ typedef struct {
     size_t index; /* person * peaks + peak: the order of equal scores */
 } candidate;
 
-static int candidate_before(const candidate *a, const candidate *b) { return a->score > b->score; }
-
-static void merge_sort_candidates(candidate *items, candidate *scratch, size_t count) {
-    if (count < 2) return;
-    size_t half = count / 2;
-    merge_sort_candidates(items, scratch, half);
-    merge_sort_candidates(items + half, scratch, count - half);
-    size_t i = 0, j = half, k = 0;
-    while (i < half && j < count)
-        scratch[k++] = candidate_before(&items[j], &items[i]) ? items[j++] : items[i++];
-    while (i < half) scratch[k++] = items[i++];
-    while (j < count) scratch[k++] = items[j++];
-    memcpy(items, scratch, count * sizeof(candidate));
+static int candidate_before(const void *a, const void *b) {
+    return ((const candidate *)a)->score > ((const candidate *)b)->score;
 }
 
 /* decode.py's _exclusive_keypoints: keypoint peaks shared out among the strong people, best prior-weighted value
@@ -500,7 +498,7 @@ static int exclusive_keypoints(const frame *f, const double *x, const double *y,
                 candidates[candidate_count++] = c;
             }
         }
-    merge_sort_candidates(candidates, scratch, candidate_count);
+    stable_sort(candidates, scratch, candidate_count, sizeof(candidate), candidate_before);
     memset(slot_taken, 0, (size_t)count * VC_KEYPOINTS);
     for (size_t i = 0; i < candidate_count; ++i) {
         size_t person = candidates[i].index / peak_count, p = candidates[i].index % peak_count;
