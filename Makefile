@@ -11,8 +11,9 @@ export DRJIT_LIBLLVM_PATH := $(LLVM_LIB)
 DEMO_OUT ?= out/demo
 
 # Debian packages: gcc for the C decoder (and its sanitizers); LLVM 19 for Mitsuba's CPU backend; for vc-serve's tests
-# a real MQTT broker (mosquitto) and a real RTSP camera (GStreamer's RTSP server, run by the system Python through its introspection bindings: tests/serve_*).
-SYSTEM_PACKAGES := gcc libllvm19 mosquitto python3-gi gir1.2-gstreamer-1.0 gir1.2-gst-rtsp-server-1.0 gstreamer1.0-rtsp \
+# a real MQTT broker (mosquitto) and a real RTSP camera (GStreamer's RTSP server, run by the system Python through its introspection bindings: tests/serve_*);
+# chromium for vc-scene edit's browser test (Playwright drives it; it cannot download its own browser here).
+SYSTEM_PACKAGES := gcc libllvm19 chromium mosquitto python3-gi gir1.2-gstreamer-1.0 gir1.2-gst-rtsp-server-1.0 gstreamer1.0-rtsp \
 	gstreamer1.0-plugins-base gstreamer1.0-plugins-good gstreamer1.0-plugins-bad
 SUDO := $(if $(filter 0,$(shell id -u)),,sudo)
 

@@ -9,6 +9,7 @@
              [--focal F]
     vc-scene calibrate POINTS.csv|H.txt --size W H [--format ground-points|homography] [--focal F] [--units U]
              -o camera.yaml [--json OUT.json]
+    vc-scene edit DIR|SCENE [--host H] [--port P]
 
 Bad input (a malformed scene, a missing file, an unreadable video) prints one ``error:`` line naming the file
 and the field, and exits with status 2.
@@ -252,9 +253,27 @@ def cmd_init(args: argparse.Namespace) -> int:
                                                    for r in regions))
     print(f"wrote    {scene_path}, background.png, overlay.png, init.json in {time.perf_counter() - started:.0f} s")
     print("next     1. look at overlay.png: the figures must stand on the ground, as tall as people there are;\n"
-          "         2. edit scene.yaml: trim the walkable polygon, add obstacles and walls (in pixels);\n"
+          f"         2. vc-scene edit {output}: trim the walkable polygon, add obstacles and walls (in a browser);\n"
           f"         3. vc-scene light {scene_path} -o light.png  (the light estimated from the background);\n"
           f"         4. vc-compile {scene_path} -o OUT")
+    return 0
+
+
+def cmd_edit(args: argparse.Namespace) -> int:
+    from vc.scenes.editor_server import serve
+
+    scene_path = args.scene / "scene.yaml" if args.scene.is_dir() else args.scene
+    if not scene_path.is_file():
+        raise InputError(args.scene, "", "no scene.yaml here: give a scene folder or its YAML file")
+    server = serve(scene_path, args.host, args.port)
+    print(f"editing  {scene_path.resolve()}  (Save writes it; nothing else is written)")
+    print(f"open     {server.url}  in a browser on this machine; Ctrl-C stops", flush=True)
+    try:
+        server.serve_forever()
+    except KeyboardInterrupt:
+        print("stopped")
+    finally:
+        server.server_close()
     return 0
 
 
@@ -320,6 +339,13 @@ def build_parser() -> argparse.ArgumentParser:
     calibrate.add_argument("-o", "--output", type=Path, required=True, help="camera YAML (cv::FileStorage)")
     calibrate.add_argument("--json", type=Path, help="also write the solution and each point's error as JSON here")
     calibrate.set_defaults(run=cmd_calibrate)
+
+    edit = commands.add_parser("edit", help="draw the walkable area, obstacles, walls and zones over the background "
+                                            "in a browser; Save writes scene.yaml")
+    edit.add_argument("scene", type=Path, help="a scene folder (its scene.yaml) or a scene YAML")
+    edit.add_argument("--host", default="127.0.0.1", help="the address to serve on (default: this machine only)")
+    edit.add_argument("--port", type=int, default=8765, help="the port (default 8765; 0: any free one)")
+    edit.set_defaults(run=cmd_edit)
     return parser
 
 

@@ -168,22 +168,30 @@ def _video_files(video: Path | None) -> list[Path]:
     return [video] if video.is_file() else sorted(p for p in video.iterdir() if p.is_file())
 
 
+def top_level_span(text: str, key: str) -> tuple[int, int] | None:
+    """Where the top-level entry ``key`` of a YAML mapping's ``text`` lies: from the start of its key's line to the
+    end of its value's (a flow value ends mid-line: to the end of that line); None when absent. The text around it
+    keeps its comments and layout, which a parse and dump would lose."""
+    root = yaml.compose(text)
+    for node_key, value in root.value if isinstance(root, yaml.MappingNode) else ():
+        if node_key.value == key:
+            start = text.rfind("\n", 0, node_key.start_mark.index) + 1
+            end = value.end_mark.index
+            if end < len(text) and text[end - 1] != "\n":
+                newline = text.find("\n", end)
+                end = len(text) if newline < 0 else newline + 1
+            return start, end
+    return None
+
+
 def _hashed_yaml(path: Path) -> bytes:
     """The scene file as its content hash covers it: as written, less its ``zones`` entry (cut from the text, so that
     adding zones to a scene leaves its hash as it was). Zones change nothing rendered or trained: adding one needs
     only ``vc-export --scene``, not a new compile."""
     raw = path.read_bytes()
     text = raw.decode()
-    root = yaml.compose(text)
-    for key, value in root.value if isinstance(root, yaml.MappingNode) else ():
-        if key.value == "zones":
-            start = text.rfind("\n", 0, key.start_mark.index) + 1  # from the start of its line
-            end = value.end_mark.index
-            if end < len(text) and text[end - 1] != "\n":  # a flow value ends mid-line: to the end of the line
-                newline = text.find("\n", end)
-                end = len(text) if newline < 0 else newline + 1
-            return (text[:start] + text[end:]).encode()
-    return raw
+    span = top_level_span(text, "zones")
+    return raw if span is None else (text[:span[0]] + text[span[1]:]).encode()
 
 
 def _scene(path: Path, spec: SceneFile, image_path: Path, camera: Camera, response: str,

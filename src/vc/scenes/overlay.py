@@ -46,9 +46,9 @@ def _to_pixels(uv: np.ndarray) -> np.ndarray:
     return np.round(uv * 16).astype(np.int32)
 
 
-def draw_polyline(image: np.ndarray, camera: Camera, points: np.ndarray, colour, thickness: int = 1,
-                  closed: bool = False) -> None:
-    """Project 3-D points and draw the polyline, broken wherever a point cannot be imaged."""
+def image_runs(camera: Camera, points: np.ndarray, closed: bool = False) -> list[np.ndarray]:
+    """The (N, 2) pixel runs of the projected polyline through 3-D ``points``, broken wherever a point cannot be
+    imaged (behind the camera, or thrown to infinity by the distortion)."""
     projection = camera.project(points)
     uv, ok = projection.uv, projection.ok
     if closed:
@@ -62,9 +62,14 @@ def draw_polyline(image: np.ndarray, camera: Camera, points: np.ndarray, colour,
             current = []
     if current:
         runs.append(current)
-    for run in runs:
-        if len(run) >= 2:
-            cv2.polylines(image, [_to_pixels(np.array(run))], False, colour, thickness, cv2.LINE_AA, shift=4)
+    return [np.array(run) for run in runs if len(run) >= 2]
+
+
+def draw_polyline(image: np.ndarray, camera: Camera, points: np.ndarray, colour, thickness: int = 1,
+                  closed: bool = False) -> None:
+    """Project 3-D points and draw the polyline, broken wherever a point cannot be imaged."""
+    for run in image_runs(camera, points, closed):
+        cv2.polylines(image, [_to_pixels(run)], False, colour, thickness, cv2.LINE_AA, shift=4)
 
 
 def _draw_segments(image: np.ndarray, camera: Camera, segments: np.ndarray, colour, thickness: int = 1) -> None:
@@ -93,8 +98,9 @@ def _figure_positions(domain: shapely.Geometry, count: int) -> np.ndarray:
     return np.c_[gx.ravel()[inside], gy.ravel()[inside], np.zeros(inside.sum())]
 
 
-def draw_figure(image: np.ndarray, camera: Camera, foot: np.ndarray, colour, height_m: float = 1.75) -> None:
-    """A stick figure of ``height_m`` standing at ``foot``, turned to face the camera."""
+def figure_lines(camera: Camera, foot: np.ndarray, height_m: float = 1.75) -> list[np.ndarray]:
+    """The 3-D polylines of a stick figure of ``height_m`` standing at ``foot``, turned to face the camera: its bones
+    (densified, so that a distorting lens bends them as it would) and its head."""
     to_camera = camera.center[:2] - foot[:2]
     facing = to_camera / max(np.linalg.norm(to_camera), 1e-9)
     right = np.array([facing[1], -facing[0], 0.0])
@@ -104,10 +110,15 @@ def draw_figure(image: np.ndarray, camera: Camera, foot: np.ndarray, colour, hei
     def world(local: np.ndarray) -> np.ndarray:
         return foot + scale * (local[..., :1] * right + local[..., 1:2] * towards + local[..., 2:3] * [0, 0, 1])
 
-    _draw_segments(image, camera, world(FIGURE_BONES), colour, 1)
     a = np.linspace(0, 2 * np.pi, 25)
     head = np.c_[HEAD_RADIUS * np.cos(a), np.zeros_like(a), HEAD_CENTRE_Z + HEAD_RADIUS * np.sin(a)]
-    draw_polyline(image, camera, world(head), colour, 1)
+    return [*densify_segments(world(FIGURE_BONES)), world(head)]
+
+
+def draw_figure(image: np.ndarray, camera: Camera, foot: np.ndarray, colour, height_m: float = 1.75) -> None:
+    """A stick figure of ``height_m`` standing at ``foot``, turned to face the camera."""
+    for line in figure_lines(camera, foot, height_m):
+        draw_polyline(image, camera, line, colour, 1)
 
 
 def _label(image: np.ndarray, text: str, origin: tuple[int, int], colour) -> None:

@@ -74,34 +74,11 @@ class PixelLayout(StrictModel):
     def to_ground(self, camera: Camera, path: Path | None = None) -> Layout:
         """The metric layout these pixels show, through ``camera``; InputError naming the first pixel that sees
         no ground, or a projected shape that is not valid."""
-
-        def ground(pixels: list[list[float]], field: str) -> np.ndarray:
-            hit = camera.ground_from_pixels(np.asarray(pixels, np.float64).reshape(-1, 2))
-            if not hit.ok.all():
-                index = int(np.argmin(hit.ok))
-                u, v = pixels[index]
-                where = field if len(pixels) == 1 else f"{field}.{index}"
-                raise InputError(path, where, f"pixel ({u:g}, {v:g}) is above the horizon: its ray never meets the "
-                                              "ground")
-            return hit.points[:, :2]
-
-        walkable = [ground(polygon, f"layout.walkable.{index}").round(4).tolist()
+        walkable = [ground_points(camera, polygon, f"layout.walkable.{index}", path).round(4).tolist()
                     for index, polygon in enumerate(self.walkable)]
-        obstacles = []
-        for index, obstacle in enumerate(self.obstacles):
-            field = f"layout.obstacles.{index}"
-            if isinstance(obstacle, PixelCylinder):
-                base = ground([obstacle.base], f"{field}.base")[0]
-                obstacles.append({"type": "cylinder", "name": obstacle.name, "base": base.round(4).tolist(),
-                                  "radius": obstacle.radius, "height": obstacle.height})
-            else:
-                obstacles.append(_box(ground(obstacle.footprint, f"{field}.footprint"), obstacle, field, path))
-        walls = []
-        for index, wall in enumerate(self.walls):
-            start, end = (ground([point], f"layout.walls.{index}.{key}")[0]
-                          for key, point in (("start", wall.start), ("end", wall.end)))
-            walls.append({"name": wall.name, "start": start.round(4).tolist(), "end": end.round(4).tolist(),
-                          "height": wall.height, "thickness": wall.thickness})
+        obstacles = [obstacle_on_ground(obstacle, camera, f"layout.obstacles.{index}", path)
+                     for index, obstacle in enumerate(self.obstacles)]
+        walls = [wall_on_ground(wall, camera, f"layout.walls.{index}", path) for index, wall in enumerate(self.walls)]
         try:
             return Layout(walkable=walkable, obstacles=obstacles, walls=walls)
         except ValidationError as error:
@@ -109,6 +86,35 @@ class PixelLayout(StrictModel):
             location = ".".join(str(part) for part in first["loc"] if part not in ("box", "cylinder"))
             raise InputError(path, f"layout.{location}", "projected onto the ground: "
                              + first["msg"].removeprefix("Value error, ")) from None
+
+
+def ground_points(camera: Camera, pixels: list[list[float]], field: str, path: Path | None = None) -> np.ndarray:
+    """(N, 2) ground metres the background's ``pixels`` see; InputError naming the first pixel above the horizon."""
+    hit = camera.ground_from_pixels(np.asarray(pixels, np.float64).reshape(-1, 2))
+    if not hit.ok.all():
+        index = int(np.argmin(hit.ok))
+        u, v = pixels[index]
+        where = field if len(pixels) == 1 else f"{field}.{index}"
+        raise InputError(path, where, f"pixel ({u:g}, {v:g}) is above the horizon: its ray never meets the ground")
+    return hit.points[:, :2]
+
+
+def obstacle_on_ground(obstacle: PixelBox | PixelCylinder, camera: Camera, field: str,
+                       path: Path | None = None) -> dict:
+    """A drawn obstacle as its metric :mod:`vc.scenes.layout` entry."""
+    if isinstance(obstacle, PixelCylinder):
+        base = ground_points(camera, [obstacle.base], f"{field}.base", path)[0]
+        return {"type": "cylinder", "name": obstacle.name, "base": base.round(4).tolist(), "radius": obstacle.radius,
+                "height": obstacle.height}
+    return _box(ground_points(camera, obstacle.footprint, f"{field}.footprint", path), obstacle, field, path)
+
+
+def wall_on_ground(wall: PixelWall, camera: Camera, field: str, path: Path | None = None) -> dict:
+    """A drawn wall as its metric :class:`vc.scenes.layout.Wall` entry."""
+    start, end = (ground_points(camera, [point], f"{field}.{key}", path)[0]
+                  for key, point in (("start", wall.start), ("end", wall.end)))
+    return {"name": wall.name, "start": start.round(4).tolist(), "end": end.round(4).tolist(), "height": wall.height,
+            "thickness": wall.thickness}
 
 
 def _box(footprint: np.ndarray, box: PixelBox, field: str, path: Path | None) -> dict:
