@@ -228,26 +228,23 @@ def _edited_layout(edit: dict, original: dict, camera: Camera, frame: str, path:
             pixels = element.get("points") or []
             points = pixels if frame == "image" else ground_points(camera, pixels, field, path).round(4).tolist()
         walkable.append(points)
-    obstacles = []
-    for index, element in enumerate(edit.get("obstacles", [])):
-        field = f"layout.obstacles.{index}"
-        entry = kept("obstacles", element)
-        if entry is None:
-            drawn = validated(PixelCylinder if element.get("type") == "cylinder" else PixelBox, element, field)
-            entry = drawn.model_dump(exclude_none=True) if frame == "image" \
-                else {key: value for key, value in obstacle_on_ground(drawn, camera, field, path).items()
-                      if value is not None}
-        obstacles.append(entry)
-    walls = []
-    for index, element in enumerate(edit.get("walls", [])):
-        field = f"layout.walls.{index}"
-        entry = kept("walls", element)
-        if entry is None:
-            drawn = validated(PixelWall, element, field)
-            entry = drawn.model_dump(exclude_none=True) if frame == "image" \
-                else {key: value for key, value in wall_on_ground(drawn, camera, field, path).items()
-                      if value is not None}
-        walls.append(entry)
+    def placed(kind: str, model_of, on_ground) -> list:
+        """The ``kind`` entries: kept as they were, or validated from their pixels and placed in the frame."""
+        entries = []
+        for index, element in enumerate(edit.get(kind, [])):
+            field = f"layout.{kind}.{index}"
+            entry = kept(kind, element)
+            if entry is None:
+                drawn = validated(model_of(element), element, field)
+                entry = drawn.model_dump(exclude_none=True) if frame == "image" \
+                    else {key: value for key, value in on_ground(drawn, camera, field, path).items()
+                          if value is not None}
+            entries.append(entry)
+        return entries
+
+    obstacles = placed("obstacles", lambda element: PixelCylinder if element.get("type") == "cylinder" else PixelBox,
+                       obstacle_on_ground)
+    walls = placed("walls", lambda element: PixelWall, wall_on_ground)
     locked = {"walkable": [], "obstacles": [], "walls": []}
     for kind in locked:
         shown = {element.get("source") for element in edit.get(kind, []) if element.get("source") is not None}
