@@ -202,3 +202,14 @@ def test_vc_scene_edit_refuses_a_folder_without_a_scene(tmp_path, capsys):
 
     assert main(["edit", str(tmp_path)]) == 2
     assert "no scene.yaml here" in capsys.readouterr().err
+
+
+def test_vc_scene_edit_refuses_a_port_already_taken(pixel_scene, capsys):
+    from vc.cli.scene import main
+
+    taken = serve(pixel_scene, port=0)
+    try:
+        assert main(["edit", str(pixel_scene), "--port", str(taken.server_address[1])]) == 2
+        assert "--port: cannot serve on 127.0.0.1" in capsys.readouterr().err
+    finally:
+        taken.server_close()

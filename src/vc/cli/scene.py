@@ -265,7 +265,11 @@ def cmd_edit(args: argparse.Namespace) -> int:
     scene_path = args.scene / "scene.yaml" if args.scene.is_dir() else args.scene
     if not scene_path.is_file():
         raise InputError(args.scene, "", "no scene.yaml here: give a scene folder or its YAML file")
-    server = serve(scene_path, args.host, args.port)
+    try:
+        server = serve(scene_path, args.host, args.port)
+    except OSError as error:  # the port is taken, or the address is not this machine's
+        raise InputError(None, "--port", f"cannot serve on {args.host}:{args.port} ({error.strerror or error}): "
+                                         "choose another --port, or 0 for any free one") from None
     print(f"editing  {scene_path.resolve()}  (Save writes it; nothing else is written)")
     print(f"open     {server.url}  in a browser on this machine; Ctrl-C stops", flush=True)
     try:
