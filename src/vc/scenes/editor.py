@@ -34,6 +34,7 @@ from pydantic import ValidationError
 
 from vc.calibration.camera import Camera
 from vc.errors import InputError
+from vc.io import atomic_path
 from vc.scenes.layout import Cylinder, Layout
 from vc.scenes.loader import Scene, load_scene, read_scene_file, top_level_span
 from vc.scenes.overlay import figure_lines, image_runs
@@ -331,14 +332,8 @@ def save(scene_path: Path, edit: dict) -> dict:
     rename; the page's new state (what it then shows)."""
     scene_path = Path(scene_path).resolve()
     text, _, _ = check(scene_path, edit)
-    handle, name = tempfile.mkstemp(prefix=f".{scene_path.name}.", suffix=".saving", dir=scene_path.parent)
-    try:
-        with os.fdopen(handle, "w") as file:
-            file.write(text)
-        os.chmod(name, scene_path.stat().st_mode & 0o777)
-        os.replace(name, scene_path)
-    finally:
-        Path(name).unlink(missing_ok=True)
+    with atomic_path(scene_path) as temporary:
+        temporary.write_text(text)
     return page_state(scene_path)
 
 
