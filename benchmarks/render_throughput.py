@@ -3,6 +3,7 @@
     python -m benchmarks.render_throughput [--scene examples/scenes/pets09_s2l1/scene.yaml] [--spp 4 16 64]
                                            [--samples 40] [--warmup 5] [--out benchmarks/results/render_throughput]
     python -m benchmarks.render_throughput --photometry [--scene ...] [--samples 40] [--out DIR]
+    python -m benchmarks.render_throughput --sun-course [--scene examples/scenes/demo_dated/scene.yaml] [--samples 40]
     python -m benchmarks.render_throughput --processes 12 [--scene ...] [--samples 400] [--out DIR]
 
 Each sample is what ``vc-render`` writes: people sampled and posed, rendered, composited, labelled, and the
@@ -16,6 +17,12 @@ throughput may fall by no more than what the matched plan's effects cost: the ru
 difference per sample, and the effects' own time per sample (the samples' ``effect.*`` timings and the plan's
 estimate) to ``render_throughput_photometry.json`` and ``.md``, with the machine's CPU model, since rates from
 different machines do not compare.
+
+``--sun-course`` times each region of a scene that says where and when its background was taken (default: the
+dated demo, ``examples/scenes/demo_dated/scene.yaml``) at the reference spp twice in one run, in turn: under the
+photographed sun alone and over the sun's course (:mod:`vc.render.sun_course`). It writes what building each position
+costs once per region (the background relit and a renderer of its own), the samples/s of both once every position is
+built, and their ratio, to ``render_throughput_sun_course.json`` and ``.md``.
 
 ``--processes N [N ...]`` times the whole render stage instead (every region, ``--samples`` each at 16 spp, shards
 of :data:`PROCESS_SHARD` samples), wall clock, in this process and then with ``vc-compile --executor processes``'s
@@ -46,7 +53,7 @@ from vc.cores import cpu_facts  # noqa: E402
 from vc.io import write_json  # noqa: E402
 from vc.render import dataset  # noqa: E402
 from vc.render.bodies import BodyModel  # noqa: E402
-from vc.render.plan import plan_render  # noqa: E402
+from vc.render.plan import RenderPlan, plan_render  # noqa: E402
 from vc.render.synthesis import RegionSynthesizer, SynthesisSettings  # noqa: E402
 from vc.scenes.loader import Scene, load_scene  # noqa: E402
 from vc.scenes.regions import plan_regions  # noqa: E402
@@ -114,6 +121,58 @@ def compare_photometry(scene: Scene, bodies: BodyModel, samples: int, warmup: in
         print(json.dumps(row))
         rows.append(row)
     return rows
+
+
+def without_sun_course(plan: RenderPlan) -> RenderPlan:
+    """``plan`` with its samples under the photographed sun alone."""
+    return replace(plan, effects=[replace(decision, on=False, reason="switched off for the comparison")
+                                  if decision.name == "sun_course" else decision for decision in plan.effects])
+
+
+def compare_sun_course(scene: Scene, bodies: BodyModel, samples: int, warmup: int, scratch: Path) -> dict:
+    """Per region: the seconds each position of the sun's course takes to build, and samples/s under the photographed
+    sun alone and over the course (every position built first), measured in turn in this process."""
+    regions = plan_regions(scene)
+    plan = plan_render(scene, regions)
+    if not plan.sun_course:
+        reason = next(decision.reason for decision in plan.effects if decision.name == "sun_course")
+        raise SystemExit(f"{display_path(scene.path)}: no sun course to measure: {reason}")
+    rows = []
+    for region in regions:
+        settings = SynthesisSettings(spp=REFERENCE_SPP)
+        photographed = RegionSynthesizer(scene, region, bodies, settings, without_sun_course(plan))
+        course = RegionSynthesizer(scene, region, bodies, settings, plan)
+        build = []
+        for index in range(1, len(plan.sun_course)):
+            start = time.perf_counter()
+            course.light(index)
+            build.append(time.perf_counter() - start)
+        row = {"region": region.name, "input_size": list(region.input_size), "positions": len(plan.sun_course),
+               "build_seconds_per_position": round(float(np.mean(build)), 2),
+               "build_seconds": round(float(np.sum(build)), 1),
+               "photographed": measure(photographed, samples, warmup, scratch),
+               "course": measure(course, samples, warmup, scratch)}
+        row["ratio"] = round(row["course"]["ms_per_sample"] / row["photographed"]["ms_per_sample"], 2)
+        print(json.dumps(row), flush=True)
+        rows.append(row)
+    return {"scene": display_path(scene.path), "cpu": cpu_facts()[0], "spp": REFERENCE_SPP, "samples": samples,
+            "positions": [position.to_dict() for position in plan.sun_course], "rows": rows}
+
+
+def write_sun_course(report: dict, out: Path) -> None:
+    """``render_throughput_sun_course.json`` and ``.md`` from :func:`compare_sun_course`'s ``report``."""
+    write_json(out / "render_throughput_sun_course.json", report)
+    hours = ", ".join(position["time"][11:16] for position in report["positions"][1:])
+    lines = [f"The sun's course on {report['scene']}: the photographed sun and {len(report['positions']) - 1} more "
+             f"({hours}), {report['spp']} spp, {report['samples']} samples per region and arm, one run on "
+             f"{report['cpu']} (`python -m benchmarks.render_throughput --sun-course`).", "",
+             "| region | input | build s per position | build s | photographed sun samples/s | course samples/s | "
+             "course / photographed, time per sample |", "|---|---|---|---|---|---|---|"]
+    lines += [f"| {r['region']} | {r['input_size'][0]}x{r['input_size'][1]} | {r['build_seconds_per_position']} | "
+              f"{r['build_seconds']} | {r['photographed']['samples_per_second']} | "
+              f"{r['course']['samples_per_second']} | {r['ratio']}x |" for r in report["rows"]]
+    (out / "render_throughput_sun_course.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
 
 
 #: Samples per shard in ``--processes`` runs: small enough that every worker gets several.
@@ -203,17 +262,22 @@ def _plot(results: list[dict], path: Path) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--scene", type=Path, default=EXAMPLE_SCENES / "pets09_s2l1" / "scene.yaml")
+    parser.add_argument("--scene", type=Path)
     parser.add_argument("--spp", type=int, nargs="+", default=[4, 16, 64])
     parser.add_argument("--samples", type=int, default=40)
     parser.add_argument("--warmup", type=int, default=5)
     parser.add_argument("--out", type=Path, default=results_folder("render_throughput"))
     parser.add_argument("--photometry", action="store_true",
                         help="compare photometric matching off and matched at the reference spp instead")
+    parser.add_argument("--sun-course", action="store_true",
+                        help="compare the photographed sun alone and the sun's course at the reference spp instead "
+                             "(default scene: the dated demo)")
     parser.add_argument("--processes", type=int, nargs="+", metavar="N",
                         help="time the render stage in this process and in N worker processes instead")
     args = parser.parse_args()
 
+    default = "demo_dated/scene.yaml" if args.sun_course else "pets09_s2l1/scene.yaml"
+    args.scene = args.scene or EXAMPLE_SCENES / default
     if args.processes:
         args.out.mkdir(parents=True, exist_ok=True)
         with tempfile.TemporaryDirectory(prefix="vc-render-processes-") as scratch:
@@ -226,6 +290,11 @@ def main() -> None:
     print(f"body model built in {time.perf_counter() - start:.1f} s")
     scratch = tempfile.mkdtemp(prefix="vc-render-bench-")
     args.out.mkdir(parents=True, exist_ok=True)
+    if args.sun_course:
+        report = compare_sun_course(scene, bodies, args.samples, args.warmup, Path(scratch))
+        shutil.rmtree(scratch)
+        write_sun_course(report, args.out)
+        return
     if args.photometry:
         rows = compare_photometry(scene, bodies, args.samples, args.warmup, Path(scratch))
         shutil.rmtree(scratch)

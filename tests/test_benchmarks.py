@@ -506,6 +506,17 @@ def test_reports_name_paths_inside_the_repository_and_only_the_name_of_others(tm
     assert display_path(tmp_path / "runs" / "60f2eb750f29") == "60f2eb750f29"
 
 
+def test_the_sun_course_comparison_switches_off_the_course_alone():
+    from vc.render.plan import plan_render
+
+    scene = load_scene(REPO / "examples/scenes/demo_dated/scene.yaml")
+    plan = plan_render(scene, plan_regions(scene), time_costs=False)
+    photographed = throughput.without_sun_course(plan)
+    assert len(plan.sun_course) > 1 and photographed.sun_course == []
+    assert [(d.name, d.on) for d in photographed.effects if d.name != "sun_course"] == \
+        [(d.name, d.on) for d in plan.effects if d.name != "sun_course"]
+
+
 def test_the_committed_reports_name_no_machine_folders():
     """Reports are compared across machines: a run or scene is named by its name or its path in the repository."""
     reports = [path for path in RESULTS.rglob("*") if path.suffix in (".md", ".json", ".jsonl")]
@@ -519,6 +530,7 @@ def test_the_committed_reports_name_no_machine_folders():
     pytest.param("accuracy_vs_time", sweep_module._report, "accuracy_vs_time", marks=pytest.mark.slow),
     ("effects_ablation", ablation.report, "effects_ablation"),
     ("render_throughput", throughput.write_processes, "render_throughput_processes"),
+    ("render_throughput", throughput.write_sun_course, "render_throughput_sun_course"),
     ("runtime_latency", latency._write_report, "runtime_latency"),
 ])
 def test_the_committed_reports_are_what_the_benchmarks_write_from_their_numbers(benchmark, write, report, tmp_path):

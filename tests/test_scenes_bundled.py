@@ -1,4 +1,5 @@
-"""The bundled scenes load, plan and keep their promises (the demo renders its own background)."""
+"""The bundled scenes load, plan and keep their promises (the demo renders its own background; its dated copy
+differs from it only in saying where and when instead of where the sun is)."""
 
 from __future__ import annotations
 
@@ -21,6 +22,24 @@ def test_demo_scene_is_self_contained_and_in_view():
     regions = plan_regions(scene)
     assert len(regions) >= 2
     assert all(r.person_px[0] >= 16 for r in regions)
+
+
+def test_the_dated_demo_is_the_demo_with_where_and_when_for_its_sun():
+    import yaml
+
+    from vc.render.relight import known_sun
+
+    demo, dated = (yaml.safe_load((EXAMPLE_SCENES / name / "scene.yaml").read_text())
+                   for name in ("demo", "demo_dated"))
+    differ = ("name", "image", "lighting")
+    assert {key: value for key, value in dated.items() if key not in differ} == \
+        {key: value for key, value in demo.items() if key not in differ}
+    scene = load_scene(EXAMPLE_SCENES / "demo_dated" / "scene.yaml")
+    assert scene.image_path == load_scene(EXAMPLE_SCENES / "demo" / "scene.yaml").image_path
+    assert set(dated["lighting"]) == {"location", "time", "north_deg"}
+    azimuth, elevation = known_sun(scene.lighting)
+    assert (azimuth, elevation) == pytest.approx((demo["lighting"]["sun_azimuth_deg"],
+                                                  demo["lighting"]["sun_elevation_deg"]), abs=0.5)
 
 
 @pytest.mark.slow

@@ -3,7 +3,8 @@ acts on a sample where a camera would (docs/design.md, "Effects: simulate only w
 
 The order is the camera's:
 
-1. **renderer** — lens distortion and cast shadows are geometry: the people renderer produces them itself;
+1. **renderer** — lens distortion, cast shadows and the sun's course over the day are geometry and light: the people
+   renderer produces them itself;
 2. **optics** — motion blur, optical blur and vignetting act on the rendered people and shadow layers before
    they are composited, since the background photograph has been through the lens already;
 3. **sensor** — noise, in linear light on the composite (shot noise grows with the signal);
@@ -38,8 +39,10 @@ from vc.calibration.sharpness import added_blur, gaussian_blur
 from vc.errors import InputError
 from vc.render.camera_measurements import CameraMeasurements
 from vc.render.relight import LightingFit
+from vc.render.sun_course import MIN_ELEVATION_DEG, sun_positions
 from vc.scenes.loader import Scene
 from vc.scenes.regions import Region
+from vc.scenes.schema import SolarLighting
 
 #: Blur of the renderer's own pixels as :func:`vc.calibration.sharpness.estimate_blur_sigma` reads it: box-sampled
 #: edges read 0.43 px (tests/test_sharpness.py), not the box filter's 1/sqrt(12), since the estimator's own pixel grid
@@ -183,6 +186,31 @@ class Shadows(Effect):
     def requested(cls, evidence: Evidence) -> tuple[str, dict]:
         _, _, parameters = cls.decide(evidence)
         return "listed in the scene's effects", parameters
+
+
+class SunCourse(Effect):
+    """The sun over the background's day (:mod:`vc.render.sun_course`): each sample is lit by one of its positions,
+    the layout's shadows and the people's cast where that position puts them. Only a scene that says where and when
+    its background was taken has a course to follow."""
+
+    name, stage = "sun_course", "renderer"
+
+    @classmethod
+    def decide(cls, evidence: Evidence) -> tuple[bool, str, dict]:
+        lighting = evidence.scene.lighting
+        if not isinstance(lighting, SolarLighting):
+            return False, "the scene does not say where and when its background was taken (lighting: {location, " \
+                          "time, north_deg}): its one sun is kept", {}
+        if not evidence.illumination.has_sun:
+            return False, "the background shows no direct sun: there are no hard shadows to move", {}
+        positions = sun_positions(lighting)
+        if len(positions) < 2:
+            return False, f"the sun stands {MIN_ELEVATION_DEG:g} degrees high at no hour of the background's date", {}
+        moved = positions[1:]
+        return True, f"the scene says where and when: the photographed sun and {len(moved)} positions of " \
+                     f"{lighting.time.date().isoformat()} ({moved[0].time[11:16]}-{moved[-1].time[11:16]}, at least " \
+                     f"{MIN_ELEVATION_DEG:g} degrees high), one per sample", \
+            {"positions": [position.to_dict() for position in positions]}
 
 
 # --- optics ----------------------------------------------------------------------------------------------------
@@ -441,8 +469,8 @@ class Defocus(Effect):
 
 
 #: Every effect, in the order a camera applies them.
-REGISTRY: tuple[type[Effect], ...] = (LensDistortion, Shadows, MotionBlur, OpticalBlur, Vignetting, Defocus,
-                                      SensorNoise, Compression)
+REGISTRY: tuple[type[Effect], ...] = (LensDistortion, Shadows, SunCourse, MotionBlur, OpticalBlur, Vignetting,
+                                      Defocus, SensorNoise, Compression)
 STAGES = ("renderer", "optics", "sensor", "encoding")
 
 

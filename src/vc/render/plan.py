@@ -17,6 +17,7 @@ from vc.io import read_image
 from vc.render.camera_measurements import CameraMeasurements, measure_camera
 from vc.render.effects import EffectDecision, Evidence, build_effects, effect_on, plan_effects, time_effect
 from vc.render.relight import LightingSolution, solve_lighting
+from vc.render.sun_course import SunPosition
 from vc.scenes.loader import Scene
 from vc.scenes.regions import Region
 
@@ -38,6 +39,14 @@ class RenderPlan:
     @property
     def shadows(self) -> bool:
         return effect_on(self.effects, "shadows")
+
+    @property
+    def sun_course(self) -> list[SunPosition]:
+        """The sun's positions samples are drawn under, the photographed one first (empty: the estimated sun alone)."""
+        for decision in self.effects:
+            if decision.name == "sun_course" and decision.on:
+                return [SunPosition.from_dict(position) for position in decision.parameters["positions"]]
+        return []
 
     def to_dict(self) -> dict:
         return {"response": self.response.to_dict(), "lighting": self.lighting.to_dict(),

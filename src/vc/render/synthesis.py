@@ -2,7 +2,8 @@
 
 Every sample is a pure function of (scene hash, region, sample index, seed) (docs/design.md, "Conventions"):
 :func:`sample_rng` derives the one random generator a sample draws everything from — the number of people,
-where they stand, their bodies, clothes and gait, and the Mitsuba seed.
+where they stand, their bodies, clothes and gait, the Mitsuba seed, and, when the scene has a sun course to follow
+(:mod:`vc.render.sun_course`), the sun's position.
 
 Compositing happens in linear light, in the order a camera works (:mod:`vc.render.effects`): the rendered
 people and shadow layers go through the optics effects, the region's crop of the background photograph
@@ -30,6 +31,7 @@ from vc.render.labels import PersonTruth, instance_map, person_annotation
 from vc.render.people_renderer import PeopleRenderer, PersonGeometry
 from vc.render.placement import PlacementSampler, default_max_people
 from vc.render.plan import RenderPlan, region_background
+from vc.render.sun_course import moved_sun, shading_ratio
 from vc.scenes.loader import Scene
 from vc.scenes.regions import Region
 
@@ -76,10 +78,26 @@ class RegionSynthesizer:
         self.placements = PlacementSampler(scene.camera, scene.layout, region.ground, scene.priors)
         self.max_people = settings.max_people if settings.max_people is not None else default_max_people(
             region.ground, scene.priors.m2_per_person)
-        self.renderer = PeopleRenderer(self.camera, scene.layout, plan.illumination, bodies.faces,
-                                       bodies.vertex_count, max(self.max_people, 1), settings.spp,
-                                       shadows=plan.shadows)
+        self.illumination, self.shadows = plan.illumination, plan.shadows
+        self.renderer = self._people_renderer(plan.illumination)
         self.effects = build_effects(plan.effects, scene, region)
+        # The sun's course (vc.render.sun_course): a renderer and a relit background per position, made when a
+        # sample first needs one; the photographed position is the estimated light and the background as it is.
+        self.sun_course = plan.sun_course
+        self._lights: dict[int, tuple[PeopleRenderer, np.ndarray]] = {0: (self.renderer, self.background)}
+
+    def _people_renderer(self, illumination) -> PeopleRenderer:
+        return PeopleRenderer(self.camera, self.scene.layout, illumination, self.bodies.faces, self.bodies.vertex_count,
+                              max(self.max_people, 1), self.settings.spp, shadows=self.shadows)
+
+    def light(self, index: int) -> tuple[PeopleRenderer, np.ndarray]:
+        """The renderer and the linear background of the sun course's position ``index`` (0: as photographed),
+        built on first use (the background relit by :func:`vc.render.sun_course.shading_ratio`)."""
+        if index not in self._lights:
+            moved = moved_sun(self.illumination, self.sun_course[index])
+            ratio = region_background(shading_ratio(self.scene, self.illumination, moved), self.region)
+            self._lights[index] = (self._people_renderer(moved), self.background * ratio)
+        return self._lights[index]
 
     def sample(self, index: int) -> RenderedSample:
         timings: dict[str, float] = {}
@@ -92,6 +110,8 @@ class RegionSynthesizer:
         appearances = [sample_appearance(rng, phenotype, wardrobe) for phenotype in phenotypes]
         render_seed = int(rng.integers(0, 2**32))
         effects_rng = np.random.default_rng(rng.integers(0, 2**63))
+        # Drawn last, and only with a course: the samples of every other scene keep their bytes.
+        light = int(rng.integers(0, len(self.sun_course))) if self.sun_course else 0
         posed = self.bodies.pose(phenotypes, gaits) if placements else None
         timings["pose"] = time.perf_counter() - start
 
@@ -121,12 +141,17 @@ class RegionSynthesizer:
                                           "appearance": appearances[k].to_dict(),
                                       }))
         mark = time.perf_counter()
-        passes = self.renderer.render(people, render_seed)
+        if light not in self._lights:
+            built = time.perf_counter()
+            self.light(light)
+            timings["sun_course"] = time.perf_counter() - built
+        renderer, background = self.light(light)
+        passes = renderer.render(people, render_seed)
         timings["render"] = time.perf_counter() - mark
         timings.update({f"render.{step}": seconds for step, seconds in passes.timings.items()})
 
         mark = time.perf_counter()
-        image = self._composite(passes, moving, effects_rng, timings)
+        image = self._composite(passes, background, moving, effects_rng, timings)
         timings["composite"] = time.perf_counter() - mark
 
         mark = time.perf_counter()
@@ -140,7 +165,7 @@ class RegionSynthesizer:
         timings["labels"] = time.perf_counter() - mark
         return RenderedSample(index, image, instances, annotations, passes.depth, timings)
 
-    def _composite(self, passes, moving: list[MovingPerson], rng: np.random.Generator,
+    def _composite(self, passes, background: np.ndarray, moving: list[MovingPerson], rng: np.random.Generator,
                    timings: dict[str, float]) -> np.ndarray:
         """Optics effects on the layers, composite, sensor effects, encode, encoding effects (camera order)."""
         layers = SampleLayers(beauty=passes.beauty, coverage=passes.coverage, shadow=passes.shadow, people=moving)
@@ -150,7 +175,7 @@ class RegionSynthesizer:
                 effect.on_layers(layers, rng)
                 timings[f"effect.{effect.name}"] = time.perf_counter() - mark
         alpha = layers.alpha
-        linear = layers.beauty + (1.0 - alpha)[..., None] * self.background * layers.shadow
+        linear = layers.beauty + (1.0 - alpha)[..., None] * background * layers.shadow
         for effect in self.effects:
             if effect.stage == "sensor":
                 mark = time.perf_counter()

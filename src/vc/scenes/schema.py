@@ -25,8 +25,8 @@ Size = Annotated[list[Annotated[int, Field(gt=0)]], Field(min_length=2, max_leng
 #: where it shows one, :mod:`vc.calibration.response_fit`).
 RESPONSE_PATTERN = re.compile(r"^(srgb|linear|auto|gamma\s+\d+(\.\d+)?)$")
 #: Effects the renderer knows (docs/design.md "Effects"); ``auto`` lets the scene decide which it needs.
-EFFECT_NAMES = ("lens_distortion", "shadows", "motion_blur", "optical_blur", "vignetting", "sensor_noise", "jpeg",
-                "defocus")
+EFFECT_NAMES = ("lens_distortion", "shadows", "sun_course", "motion_blur", "optical_blur", "vignetting",
+                "sensor_noise", "jpeg", "defocus")
 
 
 def _response(value: str) -> str:
