@@ -237,6 +237,19 @@ def test_other_settings_in_the_same_folder_are_refused(rendered_dataset, capsys)
     assert "different settings" in capsys.readouterr().err
 
 
+def test_an_effect_that_is_off_or_unknown_to_an_older_render_does_not_refuse_it(rendered_dataset) -> None:
+    from vc.render.dataset import check_manifest, read_manifest
+
+    current = read_manifest(rendered_dataset)
+    older = {**current, "effects": [effect for effect in current["effects"] if effect["on"]]}
+    assert len(older["effects"]) < len(current["effects"])  # the demo has effects that are off
+    check_manifest(rendered_dataset, older, current)  # the pixels depend on the effects that are on alone
+    changed = [{**effect, "parameters": {**effect["parameters"], "changed": True}} if effect["on"] else effect
+               for effect in current["effects"]]
+    with pytest.raises(InputError, match="other camera effects"):
+        check_manifest(rendered_dataset, {**current, "effects": changed}, current)
+
+
 # --- bad input (no rendering happens: the checks come first) -------------------------------------------------
 @pytest.mark.parametrize(("arguments", "message"), [
     (["--samples", "3", "--regions", "nowhere"], "unknown region nowhere"),

@@ -210,11 +210,12 @@ def plan_entries(plan: dict) -> dict:
 
 
 def _rendered_with(manifest: dict) -> dict:
-    """What a dataset's pixels depend on beyond its settings: the camera response, the light and each effect's
-    state and parameters (not the measured costs, which vary from run to run)."""
+    """What a dataset's pixels depend on beyond its settings: the camera response, the light and the parameters of
+    each effect that is on (not the measured costs, which vary from run to run; an effect that is off, or that the
+    version which rendered it did not know, changed no pixel)."""
     return {"response": (manifest.get("response") or {}).get("name"),
             "illumination": manifest.get("lighting", {}).get("illumination"),
-            "effects": [(e.get("name"), e.get("on"), e.get("parameters")) for e in manifest.get("effects", [])]}
+            "effects": [(e.get("name"), e.get("parameters")) for e in manifest.get("effects", []) if e.get("on")]}
 
 
 def check_manifest(root: Path, existing: dict | None, manifest: dict) -> None:
