@@ -83,11 +83,14 @@ def moved_sun(illumination: Illumination, position: SunPosition) -> Illumination
     return replace(illumination, sun_azimuth_deg=position.azimuth_deg, sun_elevation_deg=position.elevation_deg)
 
 
-def shading_ratio(scene: Scene, estimated: Illumination, moved: Illumination, spp: int = RATIO_SPP) -> np.ndarray:
+def shading_ratio(scene: Scene, estimated: Illumination, moved: Illumination, spp: int = RATIO_SPP,
+                  estimated_shading: np.ndarray | None = None) -> np.ndarray:
     """(H, W, 3) float32: what the background's linear light is multiplied by to be lit by ``moved`` instead of
     ``estimated``, in the real camera's pixels: rendered and warped as the photograph was, so that the shadows' edges
-    fall on its own (module docstring); 1 where the estimated shading is below :data:`SHADING_FLOOR` of its median."""
-    before = shading_render(scene, estimated, spp)
+    fall on its own (module docstring); 1 where the estimated shading is below :data:`SHADING_FLOOR` of its median.
+    ``estimated_shading``: :func:`vc.render.relight.shading_render` of ``estimated`` at ``spp``, when the caller
+    already has it (it is the same for every position)."""
+    before = shading_render(scene, estimated, spp) if estimated_shading is None else estimated_shading
     after = shading_render(scene, moved, spp)
     floor = SHADING_FLOOR * max(float(np.median(before)), 1e-12)
     lit = before > floor

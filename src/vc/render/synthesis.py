@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from vc.calibration.lighting import Illumination
 from vc.io import read_image
 from vc.render.appearance import WARDROBES, sample_appearance, vertex_albedo, vertex_thickness
 from vc.render.bodies import BodyModel, sample_gait, sample_phenotype
@@ -31,7 +32,8 @@ from vc.render.labels import PersonTruth, instance_map, person_annotation
 from vc.render.people_renderer import PeopleRenderer, PersonGeometry
 from vc.render.placement import PlacementSampler, default_max_people
 from vc.render.plan import RenderPlan, region_background
-from vc.render.sun_course import moved_sun, shading_ratio
+from vc.render.relight import shading_render
+from vc.render.sun_course import RATIO_SPP, moved_sun, shading_ratio
 from vc.scenes.loader import Scene
 from vc.scenes.regions import Region
 
@@ -85,8 +87,9 @@ class RegionSynthesizer:
         # sample first needs one; the photographed position is the estimated light and the background as it is.
         self.sun_course = plan.sun_course
         self._lights: dict[int, tuple[PeopleRenderer, np.ndarray]] = {0: (self.renderer, self.background)}
+        self._estimated_shading: np.ndarray | None = None  # what every position's relit background divides by
 
-    def _people_renderer(self, illumination) -> PeopleRenderer:
+    def _people_renderer(self, illumination: Illumination) -> PeopleRenderer:
         return PeopleRenderer(self.camera, self.scene.layout, illumination, self.bodies.faces, self.bodies.vertex_count,
                               max(self.max_people, 1), self.settings.spp, shadows=self.shadows)
 
@@ -94,8 +97,11 @@ class RegionSynthesizer:
         """The renderer and the linear background of the sun course's position ``index`` (0: as photographed),
         built on first use (the background relit by :func:`vc.render.sun_course.shading_ratio`)."""
         if index not in self._lights:
+            if self._estimated_shading is None:
+                self._estimated_shading = shading_render(self.scene, self.illumination, RATIO_SPP)
             moved = moved_sun(self.illumination, self.sun_course[index])
-            ratio = region_background(shading_ratio(self.scene, self.illumination, moved), self.region)
+            ratio = region_background(shading_ratio(self.scene, self.illumination, moved,
+                                                    estimated_shading=self._estimated_shading), self.region)
             self._lights[index] = (self._people_renderer(moved), self.background * ratio)
         return self._lights[index]
 
