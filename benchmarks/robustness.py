@@ -1,15 +1,15 @@
 """How a bundle holds up when the camera's picture changes: COCO-C's common corruptions and the changes a camera meets
-every day (exposure, white balance, night IR, blur, a nudge, a lost signal), beside a YOLO-pose model on the same
-frames in the same run.
+every day (exposure, white balance, night IR, blur, a nudge, a roll, a lost signal), beside a YOLO-pose model on the
+same frames in the same run.
 
     python -m benchmarks.robustness BUNDLE --video V --gt GT.txt [--frames 1:400:5] [--background IMAGE]
         [--external MODEL.onnx [--external-size S]] [--corruptions NAME ...] [--severities 1 3 5]
-        [--conditions KEY ...] [--nudge 12] [--threads 2] [--out DIR] [--quiet]
+        [--conditions KEY ...] [--nudge 12] [--roll 0.5] [--threads 2] [--out DIR] [--quiet]
 
 Every selected frame is changed by every condition and run, each frame on its own (no tracking), by the bundle
 (:class:`vc.deploy.runtime.Runtime`, as an appliance runs it) and by the ``--external`` model
 (:class:`vc.evaluation.baselines.YoloPoseOnnx`), and scored against the ground truth, which moves with the image
-where the condition moves it (a nudged camera). The conditions:
+where the condition moves it (a nudged or rolled camera). The conditions:
 
 - **clean**: the frames as recorded; the reference of rPC and of the bundle's operating point.
 - **COCO-C** (Michaelis et al., "Benchmarking Robustness in Object Detection", 2019): the 15 common corruptions of
@@ -18,8 +18,9 @@ where the condition moves it (a nudged camera). The conditions:
   numpy 2: it comes from ``imagecorruptions-imaug``, the same code ported, installed without its dependencies
   (``pyproject.toml``'s ``robustness`` extra says why).
 - **camera life** (:func:`camera_life_conditions`; ``--conditions`` picks by key): exposure -2, -3 and +1 stops,
-  white balance warm and cool, IR monochrome, Gaussian blur, the camera nudged by ``--nudge`` px, and three frames
-  that replace the scene, scored on the background only: black, uniform grey, noise.
+  white balance warm and cool, IR monochrome, Gaussian blur, the camera nudged by ``--nudge`` px and rolled by
+  ``--roll`` degrees, and three frames that replace the scene, scored on the background only: black, uniform grey,
+  noise.
 
 Random conditions are seeded per condition and frame (:func:`condition_seed`): a rerun changes the frames to the
 same bytes.
@@ -79,9 +80,13 @@ CLEAN, CAMERA_LIFE, COCO_C = "clean", "camera life", "COCO-C"
 EXTERNAL_SCORE = 0.25
 #: How far the camera is nudged by default, in pixels of image content (the issue's measurement).
 NUDGE_PX = 12
+#: How far the camera is rolled by default, in degrees about the frame's centre: a bracket that settled (issue 62's
+#: "a fraction of a degree").
+ROLL_DEG = 0.5
 #: The level of the uniform grey frame (a covered lens, a camera's grey "no signal" picture).
 GREY_LEVEL = 128
-#: A truth box of which less than this share of the width is still in the frame after a nudge is not asked for.
+#: A truth box of which less than this share of the width is still in the frame after the camera moved is not asked
+#: for.
 VISIBLE_SHARE = 0.5
 SEVERITIES = (1, 2, 3, 4, 5)
 #: The camera's transfer curve the light conditions go through (IEC 61966-2-1; the composites are encoded with it).
@@ -123,20 +128,44 @@ def gaussian_blur(frame: np.ndarray, sigma: float) -> np.ndarray:
 
 def nudge(frame: np.ndarray, dx: int, dy: int = 0) -> np.ndarray:
     """``frame``'s content moved by ``dx`` px right and ``dy`` px down (negative: left, up), the uncovered edge filled
-    by replicating the last row or column: a camera whose bracket moved (:func:`nudge_boxes` moves the truth)."""
+    by replicating the last row or column: a camera whose bracket moved (:func:`moved_boxes` moves the truth)."""
     height, width = frame.shape[:2]
     rows = np.clip(np.arange(height) - dy, 0, height - 1)
     columns = np.clip(np.arange(width) - dx, 0, width - 1)
     return frame[rows[:, None], columns[None, :]]
 
 
-def nudge_boxes(boxes: np.ndarray, dx: int, dy: int, frame_size: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
-    """Truth boxes (N, 4) moved with a :func:`nudge` of the frame and clipped to it (``frame_size``: width, height),
-    and which of them to ignore: those with less than :data:`VISIBLE_SHARE` of their width still in the frame
-    (neither a miss nor a match: :mod:`vc.evaluation.metrics`)."""
+def roll(frame: np.ndarray, degrees: float) -> np.ndarray:
+    """``frame``'s content turned by ``degrees`` counter-clockwise about the frame's centre (a camera's principal
+    point lies near it), bilinear, the uncovered corners filled by replicating the edge: a camera rolled on its bracket
+    (:func:`moved_boxes` moves the truth)."""
+    height, width = frame.shape[:2]
+    return cv2.warpAffine(frame, image_motion((width, height), roll_deg=degrees), (width, height),
+                          flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+
+
+def image_motion(frame_size: tuple[int, int], shift: tuple[int, int] = (0, 0), roll_deg: float = 0.0) -> np.ndarray:
+    """The (2, 3) affine map of a frame's content (``frame_size``: width, height) turned by ``roll_deg``
+    counter-clockwise about the frame's centre, then moved by ``shift`` (x, y) px."""
+    width, height = frame_size
+    motion = cv2.getRotationMatrix2D(((width - 1) / 2.0, (height - 1) / 2.0), roll_deg, 1.0)
+    motion[:, 2] += shift
+    return motion
+
+
+def moved_boxes(boxes: np.ndarray, motion: np.ndarray, frame_size: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """Truth boxes (N, 4) moved with the frame's content by ``motion`` (:func:`image_motion`) and clipped to the frame
+    (``frame_size``: width, height), and which of them to ignore: those with less than :data:`VISIBLE_SHARE` of their
+    width still in the frame (neither a miss nor a match: :mod:`vc.evaluation.metrics`). A box's centre follows the
+    content and its size is kept: a person turned by a degree keeps the box an annotator draws to within a pixel or
+    two, where the box of its turned corners would widen by a tenth of a pedestrian's width."""
     boxes = np.asarray(boxes, np.float64).reshape(-1, 4)
     width, height = frame_size
-    moved = boxes + np.array([dx, dy, dx, dy], np.float64)
+    # a box's coordinates are at the pixels' edges, the motion's at their centres (OpenCV's)
+    centres = np.column_stack([(boxes[:, 0] + boxes[:, 2]) / 2 - 0.5, (boxes[:, 1] + boxes[:, 3]) / 2 - 0.5,
+                               np.ones(len(boxes))])
+    offsets = centres @ np.asarray(motion, np.float64).T - centres[:, :2]
+    moved = boxes + np.column_stack([offsets, offsets])
     clipped = np.column_stack([np.clip(moved[:, [0, 2]], 0, width), np.clip(moved[:, [1, 3]], 0, height)])[
         :, [0, 2, 1, 3]]
     widths = np.maximum(boxes[:, 2] - boxes[:, 0], 1e-9)
@@ -162,9 +191,9 @@ def noise_frame(frame: np.ndarray, seed: int) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Condition:
-    """One way to change a frame. ``transform(frame, seed)`` -> the changed frame; ``shift``: how far the image
-    content moved (x, y px), which the truth follows; ``background_only``: a frame that replaces the scene, scored
-    on the background alone."""
+    """One way to change a frame. ``transform(frame, seed)`` -> the changed frame; ``shift`` and ``roll_deg``: how
+    far the image content moved (x, y px) and turned about the frame's centre (:func:`image_motion`), which the truth
+    follows; ``background_only``: a frame that replaces the scene, scored on the background alone."""
 
     key: str  # what --conditions and --corruptions name, and the report's key
     label: str
@@ -172,6 +201,7 @@ class Condition:
     transform: Callable[[np.ndarray, int], np.ndarray]
     parameters: dict = field(default_factory=dict)
     shift: tuple[int, int] = (0, 0)
+    roll_deg: float = 0.0
     background_only: bool = False
 
 
@@ -179,7 +209,7 @@ def _seedless(function: Callable[..., np.ndarray], **parameters) -> Callable[[np
     return lambda frame, seed: function(frame, **parameters)
 
 
-def camera_life_conditions(nudge_px: int = NUDGE_PX) -> dict[str, Condition]:
+def camera_life_conditions(nudge_px: int = NUDGE_PX, roll_deg: float = ROLL_DEG) -> dict[str, Condition]:
     """The camera-life conditions of issue 62's table, by key."""
     warm, cool = {"red": 1.25, "blue": 0.8}, {"red": 0.8, "blue": 1.25}
     conditions = [
@@ -195,6 +225,8 @@ def camera_life_conditions(nudge_px: int = NUDGE_PX) -> dict[str, Condition]:
                   {"sigma_px": 2.0}),
         Condition("nudge", f"camera nudged {nudge_px} px", CAMERA_LIFE, _seedless(nudge, dx=nudge_px, dy=0),
                   {"dx_px": nudge_px, "dy_px": 0}, shift=(nudge_px, 0)),
+        Condition("roll", f"camera rolled {roll_deg:g}°", CAMERA_LIFE, _seedless(roll, degrees=roll_deg),
+                  {"roll_deg": roll_deg}, roll_deg=roll_deg),
         Condition("black", "black frame", CAMERA_LIFE, _seedless(black_frame), background_only=True),
         Condition("grey", f"uniform grey frame ({GREY_LEVEL})", CAMERA_LIFE, _seedless(grey_frame),
                   {"level": GREY_LEVEL}, background_only=True),
@@ -313,7 +345,6 @@ def measure(condition: Condition, frames: Sequence[Frame], truth: dict[int, np.n
     """Every frame (and the background) under ``condition``, run by every detector."""
     result = Measurement(condition, {name: [] for name in detectors}, {},
                          {"changing frames": 0.0, **{name: 0.0 for name in detectors}})
-    dx, dy = condition.shift
 
     def run(image: np.ndarray, label: str) -> dict[str, Detections]:
         started = time.perf_counter()
@@ -331,7 +362,8 @@ def measure(condition: Condition, frames: Sequence[Frame], truth: dict[int, np.n
     if not condition.background_only:
         for frame in frames:
             height, width = frame.image.shape[:2]
-            boxes, ignore = nudge_boxes(truth.get(frame.number, np.zeros((0, 4))), dx, dy, (width, height))
+            motion = image_motion((width, height), condition.shift, condition.roll_deg)
+            boxes, ignore = moved_boxes(truth.get(frame.number, np.zeros((0, 4))), motion, (width, height))
             for name, detections in run(frame.image, str(frame.number)).items():
                 result.images[name].append(_images(boxes, ignore, detections))
             if progress is not None:
@@ -560,6 +592,7 @@ class RobustnessRequest:
     severities: list[int] = field(default_factory=lambda: list(SEVERITIES))
     conditions: list[str] | None = None  # None: every camera-life condition; empty: none
     nudge: int = NUDGE_PX
+    roll: float = ROLL_DEG
     threads: int | None = None
     unfit: str = DEFAULT_UNFIT  # the runtime's setting for the people of an unfit frame (vc.deploy.runtime)
     out: Path = field(default_factory=lambda: results_folder("robustness"))
@@ -581,7 +614,8 @@ def _command(args: RobustnessRequest, frames: FrameRange) -> str:
     words += ["--severities", *map(str, sorted(set(args.severities)))]
     if args.conditions is not None:
         words += ["--conditions", *args.conditions]
-    words += ["--nudge", str(args.nudge)] + (["--threads", str(args.threads)] if args.threads else [])
+    words += ["--nudge", str(args.nudge), "--roll", f"{args.roll:g}"]
+    words += ["--threads", str(args.threads)] if args.threads else []
     words += ["--unfit", args.unfit]
     return "python -m benchmarks.robustness " + shlex.join(words + ["--out", display_path(args.out)])
 
@@ -606,6 +640,8 @@ def _parser() -> argparse.ArgumentParser:
                              "given: skip them)")
     parser.add_argument("--nudge", type=int, default=NUDGE_PX, help=f"pixels the camera is nudged (default "
                                                                     f"{NUDGE_PX})")
+    parser.add_argument("--roll", type=float, default=ROLL_DEG,
+                        help=f"degrees the camera is rolled about the frame's centre (default {ROLL_DEG:g})")
     parser.add_argument("--threads", type=int, default=None, help="threads per detector (default: all usable)")
     parser.add_argument("--unfit", choices=UNFIT_SETTINGS, default=DEFAULT_UNFIT,
                         help="the bundle's people on frames its scene fitness finds unfit: withheld, as shipped "
@@ -616,7 +652,7 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _conditions(args: RobustnessRequest) -> list[Condition]:
-    camera_life = camera_life_conditions(args.nudge)
+    camera_life = camera_life_conditions(args.nudge, args.roll)
     keys = list(camera_life) if args.conditions is None else args.conditions
     unknown = [key for key in keys if key not in camera_life]
     if unknown:

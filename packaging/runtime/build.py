@@ -30,7 +30,8 @@ RUNTIME_MODULES = (
     "deploy/engines.py", "deploy/exposure.py", "deploy/fitness.py", "deploy/frames.py", "deploy/heatmaps.py",
     # the C decoder: its ctypes binding and its sources, built where the wheel is installed (python -m vc.deploy.native)
     "deploy/native.py", "deploy/native/vc_decode.h", "deploy/native/vc_decode.c", "deploy/native/vc_bundle.c",
-    "deploy/runtime.py", "deploy/signing.py", "deploy/tracking.py", "deploy/veil.py", "deploy/zones.py",
+    "deploy/registration.py", "deploy/runtime.py", "deploy/signing.py", "deploy/tracking.py", "deploy/veil.py",
+    "deploy/zones.py",
     # vc-serve (the `serve` extra): the service and its command, with the commands' shared error contract
     "serve/__init__.py", "serve/config.py", "serve/events.py", "serve/health.py", "serve/mqtt.py", "serve/queue.py",
     "serve/service.py", "serve/sources.py",

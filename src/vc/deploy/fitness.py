@@ -19,9 +19,9 @@ with the background cell by cell (the exposure on the cells that still match, th
 structure and colour of each cell), which needs the cells themselves.
 
 **The states**, decided in this order: the first that holds is the frame's. All but the sharpness are measured on the
-cells (about 7 000 numbers): a PETS09 frame costs about 1.8 ms of one core, 2.8 with a veil taken off (the 2-core
-development machine, shared), and the runtime measures it while the networks run (docs/decisions/0013-scene-fitness.md,
-0016-weather-and-gain.md).
+cells (about 7 000 numbers): a PETS09 frame costs about 1.8 ms of one core, 2.8 with a veil taken off, and half a
+millisecond more to read the view's roll (the 2-core development machine, shared), and the runtime measures it while
+the networks run (docs/decisions/0013-scene-fitness.md, 0016-weather-and-gain.md, 0026-camera-roll.md).
 
 1. ``covered`` — the frame shows no scene: black, uniform, a covered lens, a lost signal's noise. Either its coarse
    luminance (code luma of the cells) varies less than :data:`COVERED_SPREAD` of the background's (standard
@@ -46,11 +46,13 @@ development machine, shared), and the runtime measures it while the networks run
    absolute ones: blur keeps a monotone edge's total variation and only spreads it. Below
    :data:`BLURRED_SHARPNESS`.
 4. ``moved`` — alignment: the global shift of the frame's coarse luminance against the background's by phase
-   correlation (numpy FFT, Hann window, the peak refined by a parabola per axis), in frame pixels. Beyond
-   :data:`MOVED_PX`, when the correlation peak is clear (at least :data:`MOVED_PEAK`): an unrelated frame's peak is
+   correlation (numpy FFT, Hann window, the peak refined by a parabola per axis), in frame pixels, and the view's
+   roll read from how its halves moved (:mod:`vc.deploy.registration`). Beyond :data:`MOVED_PX` or
+   :data:`ROLLED_DEG`, when the correlation peak is clear (at least :data:`MOVED_PEAK`): an unrelated frame's peak is
    anywhere and says nothing. The coarse cells read shifts under a cell short (3 px as 1.5-2.3 on PETS09's 8 px
-   cells): the bound is on the measured shift. :meth:`SceneReference.register` measures a move to the whole pixel
-   (up to :data:`REGISTRATION_BOUND_PX`), for the runtime to compensate; a frame it has moved back reads ``ok``.
+   cells), and small turns too: the bounds are on what they read. :meth:`SceneReference.register` measures a move to
+   the whole pixel (up to :data:`REGISTRATION_BOUND_PX`) and a roll (up to :data:`REGISTRATION_BOUND_DEG`), for the
+   runtime to compensate; a frame it has moved back reads ``ok``.
 5. ``changed`` — a veil over more than :data:`VEIL_SHARE` of the light; a noise (the frame's fine energy beyond the
    background's at its contrast, per pixel) over :data:`NOISE_CODES`; another view: the structure of the cells' coarse
    luminance (less its own blur: edges and texture, whatever light or veil lies over them) correlates under
@@ -82,6 +84,16 @@ import zipfile
 from dataclasses import dataclass, field
 
 import numpy as np
+
+from vc.deploy.registration import (
+    HalvesReference,
+    Registration,
+    hann_window,
+    phase_correlation,
+    spectrum,
+    translated,
+    view_back,
+)
 
 #: The states a frame can be in; every state but ``ok`` and ``unknown`` is unfit.
 OK, DARK, OVEREXPOSED, COVERED, BLURRED, MOVED, CHANGED, UNKNOWN = (
@@ -134,6 +146,20 @@ MOVED_PX = 1.5
 #: a camera knocked moves the view a few pixels to a few tens; more is another view, whose perspective the bundle's
 #: regions no longer fit.
 REGISTRATION_BOUND_PX = 24
+#: Moved when the view turned beyond this many degrees, as the halves of the cells read it (step 4): real frames read
+#: within 0.07 (PETS09, TUD-Stadtmitte); a view rolled 1 degree reads 0.43 or more, half a degree 0.12-0.24. PETS09's
+#: bundle holds at half a degree and invents people on the empty background from 1 (docs/decisions/0026-camera-roll.md).
+ROLLED_DEG = 0.3
+#: A rolled view is registered and compensated up to this many degrees (the runtime turns the frame back); beyond it
+#: the frame is ``moved``. A bracket settling turns a view by a fraction of a degree, a camera knocked by a few.
+REGISTRATION_BOUND_DEG = 3.0
+#: A roll registered under this many degrees is left: the networks hold it (PETS09 and TUD-Stadtmitte at half a
+#: degree: AP50 within 0.01 of upright, no one invented), and a view turned back costs a gather of every pixel.
+REGISTERED_ROLL_DEG = 0.25
+#: Rounds of the roll's registration: the cells read a small turn short (1 degree as 0.4-0.6), so they are turned back
+#: by what they read and read again, until a round moves them less than :data:`ROLL_SETTLED_DEG`.
+ROLL_ROUNDS = 8
+ROLL_SETTLED_DEG = 0.02
 #: Rounds of registration (:meth:`SceneReference.register`): the coarse cells read a shift short, so the frame is
 #: moved back by what they read and measured again; three rounds bring 24 px to within a pixel, a last search of the
 #: neighbouring whole pixels settles it.
@@ -249,20 +275,6 @@ def clipped_cells(cells: np.ndarray) -> np.ndarray:
     return np.maximum(np.maximum(cells[..., 0], cells[..., 1]), cells[..., 2]) >= CLIPPED_CODE
 
 
-def translated(frame: np.ndarray, shift: tuple[int, int]) -> np.ndarray:
-    """``frame`` with its content moved back by ``shift`` (x, y) whole pixels: ``result[y, x] = frame[y + dy, x +
-    dx]``, the edge's pixels repeated where the frame has none (what a view moved by ``shift`` showed where the
-    background has it)."""
-    dx, dy = int(shift[0]), int(shift[1])
-    if dx == 0 and dy == 0:
-        return frame
-    height, width = frame.shape[:2]
-    if abs(dx) >= width or abs(dy) >= height:
-        raise ValueError(f"a shift of {shift} leaves nothing of a {width}x{height} frame")
-    kept = frame[max(dy, 0):height + min(dy, 0), max(dx, 0):width + min(dx, 0)]
-    return np.pad(kept, ((max(-dy, 0), max(dy, 0)), (max(-dx, 0), max(dx, 0)), (0, 0)), mode="edge")
-
-
 def _coarse_energy(luma: np.ndarray) -> float:
     across, down = np.diff(luma, axis=1), np.diff(luma, axis=0)
     return float((np.mean(across ** 2) if across.size else 0.0) + (np.mean(down ** 2) if down.size else 0.0))
@@ -311,15 +323,6 @@ def fitted_line(x: np.ndarray, y: np.ndarray) -> tuple[float, float]:
         return 0.0, 0.0
     gain = float(np.mean((x - x.mean()) * (y - y.mean()))) / spread
     return gain, float(y.mean()) - gain * float(x.mean())
-
-
-def _window(shape: tuple[int, int]) -> np.ndarray:
-    return np.outer(np.hanning(shape[0]), np.hanning(shape[1])).astype(np.float32)
-
-
-def _parabola_offset(before: float, peak: float, after: float) -> float:
-    curvature = before - 2.0 * peak + after
-    return 0.0 if curvature >= 0 else float(np.clip(0.5 * (before - after) / curvature, -0.5, 0.5))
 
 
 @dataclass(frozen=True)
@@ -385,7 +388,9 @@ class FrameFitness:
     veil: float | None = None  # share of the frame's light that is airlight (fog, haze, glare)
     noise_codes: float | None = None  # per-pixel noise beyond the background's, 8-bit codes
     correlation: float | None = None  # of the coarse luminance with the background's
+    roll_deg: float | None = None  # how far the content turned from the background's, counter-clockwise, as read
     registered_px: tuple[int, int] | None = None  # (x, y): the view's move the runtime compensated (None: none)
+    registered_roll_deg: float | None = None  # the view's roll the runtime compensated (None: none)
     exposure_corrected_stops: float | None = None  # the exposure change the runtime gave the frame (vc.deploy.exposure)
     veil_taken_off: float | None = None  # the veil's share of the light the runtime stretched away (vc.deploy.veil)
 
@@ -403,7 +408,7 @@ class FrameFitness:
         if self.unfit:
             result["reason"] = self.reason
         for name in ("spread", "coherence", "exposure_stops", "matching", "sharpness", "shift_peak", "colour_left",
-                     "colour_cast_stops", "veil", "noise_codes", "correlation"):
+                     "colour_cast_stops", "veil", "noise_codes", "correlation", "roll_deg", "registered_roll_deg"):
             value = getattr(self, name)
             if value is not None:
                 result[name] = round(float(value), 3)
@@ -500,7 +505,7 @@ class SceneReference:
         self._derived["table"] = np.append(self.decode, self.decode[-1]).astype(np.float32)
         luma, linear = self.cells @ LUMA, self._linear(self.cells)
         luminance = linear @ LUMA
-        window = _window(luma.shape)
+        window = hann_window(luma.shape)
         bright = (luminance > COLOUR_FLOOR)[::COLOUR_STEP, ::COLOUR_STEP]
         self._derived["bright"] = luminance > COLOUR_FLOOR
         chroma = _log_chroma(linear[::COLOUR_STEP, ::COLOUR_STEP])
@@ -522,7 +527,7 @@ class SceneReference:
             slope=np.append(np.diff(self.decode), self.decode[-1] - self.decode[-2]).astype(np.float32),
             samples=samples,
             luma=luma, structure=_structure(luma), luminance=luminance, window=window,
-            conjugate=np.conj(np.fft.rfft2((luma - luma.mean()) * window)), spread=max(float(luma.std()), 1e-3),
+            conjugate=spectrum(luma, window), halves=HalvesReference(luma), spread=max(float(luma.std()), 1e-3),
             colour_cells=bright, colour_chroma=chroma,
             colour_variation=variation,
             clipped=clipped, fine_rows=np.maximum(self.fine_rows, MIN_FINE_ENERGY))
@@ -560,6 +565,7 @@ class SceneReference:
         matching = float(np.mean(matching_cells))
 
         shift, peak = self._shift(luma)
+        roll = reference["halves"].roll(luma)
 
         colour_left, cast = self._colour(scene, matching_cells & unclipped)
         if veil > 0.0 and cast is not None:
@@ -570,10 +576,10 @@ class SceneReference:
                 colour_left, cast = as_is
 
         correlation = self._correlation(luma)
-        state, reason = self._decide(fit_range, spread, coherence, exposure, sharpness, shift, peak, matching,
+        state, reason = self._decide(fit_range, spread, coherence, exposure, sharpness, shift, peak, roll, matching,
                                      colour_left, cast, veil, noise, correlation)
         return FrameFitness(state, reason, spread, coherence, exposure, matching, sharpness, shift, peak, colour_left,
-                            cast, veil, noise, correlation)
+                            cast, veil, noise, correlation, roll_deg=roll)
 
     def _agreement(self, light: np.ndarray, unclipped: np.ndarray, code_noise: np.ndarray) -> tuple[float,
                                                                                                      np.ndarray]:
@@ -646,25 +652,19 @@ class SceneReference:
     def _shift(self, luma: np.ndarray) -> tuple[tuple[float, float], float]:
         """Phase correlation of the frame's coarse luminance with the background's: (x, y) frame pixels and the
         peak."""
-        reference = self.derived
-        cross = np.fft.rfft2((luma - luma.mean()) * reference["window"]) * reference["conjugate"]
-        cross /= np.abs(cross) + 1e-9
-        surface = np.fft.irfft2(cross, s=luma.shape)
-        row, column = np.unravel_index(int(np.argmax(surface)), surface.shape)
-        height, width = surface.shape
-        peak = float(surface[row, column])
-        y = row + _parabola_offset(surface[(row - 1) % height, column], peak, surface[(row + 1) % height, column])
-        x = column + _parabola_offset(surface[row, (column - 1) % width], peak, surface[row, (column + 1) % width])
-        y, x = (y - height if y > height / 2 else y), (x - width if x > width / 2 else x)  # wrapped: negative shifts
-        return (float(x * self.cell_px), float(y * self.cell_px)), max(peak, 0.0)
+        x, y, peak = phase_correlation(luma, self.derived["window"], self.derived["conjugate"])
+        return (x * self.cell_px, y * self.cell_px), peak
 
-    def register(self, frame: np.ndarray, bound_px: float = REGISTRATION_BOUND_PX) -> tuple[int, int] | None:
-        """How far, in whole frame pixels (x, y), the view of ``frame`` moved from the background's; None when the
-        correlation says nothing (an unrelated picture: the phase correlation's peak under :data:`MOVED_PEAK`, or
-        the view moved back correlating under :data:`SAME_VIEW_CORRELATION`) or the move is beyond ``bound_px``.
-        The frame is moved back by what the coarse cells read and read again (:data:`REGISTRATION_ROUNDS`), then
-        the neighbouring whole pixels are compared by the correlation of their cells' luminance with the
-        background's."""
+    def register(self, frame: np.ndarray, bound_px: float = REGISTRATION_BOUND_PX,
+                 bound_deg: float = REGISTRATION_BOUND_DEG) -> Registration | None:
+        """How the view of ``frame`` moved from the background's (:mod:`vc.deploy.registration`): whole frame pixels
+        up to ``bound_px`` and a roll up to ``bound_deg``; None when the correlation says nothing (an unrelated
+        picture: the phase correlation's peak under :data:`MOVED_PEAK`, or the view undone correlating under
+        :data:`SAME_VIEW_CORRELATION`) or the view moved beyond the bounds. The frame is moved back by what the
+        coarse cells read and read again (:data:`REGISTRATION_ROUNDS`), and turned back by the roll its cells read
+        and read again (:data:`ROLL_ROUNDS`; a roll under :data:`REGISTERED_ROLL_DEG` is left); then the
+        neighbouring whole pixels, with the roll and without, are compared by the correlation of their cells'
+        luminance with the background's."""
         shift = np.zeros(2, np.int64)
         for _ in range(REGISTRATION_ROUNDS):
             (x, y), peak = self._shift(cell_means(translated(frame, tuple(shift)), self.cell_px) @ LUMA)
@@ -676,10 +676,28 @@ class SceneReference:
             shift += step
             if math.hypot(*shift) > bound_px + self.cell_px:
                 return None
-        candidates = [(int(shift[0] + dx), int(shift[1] + dy)) for dy in (-1, 0, 1) for dx in (-1, 0, 1)]
-        scored = [(self._luma_correlation(translated(frame, candidate)), candidate) for candidate in candidates]
-        correlation, best = max(scored)
-        return best if math.hypot(*best) <= bound_px and correlation >= SAME_VIEW_CORRELATION else None
+        roll = self._roll(frame, (int(shift[0]), int(shift[1])))
+        if abs(roll) > bound_deg:
+            return None
+        rolls = (roll, 0.0) if abs(roll) >= REGISTERED_ROLL_DEG else (0.0,)
+        candidates = [Registration(int(shift[0] + dx), int(shift[1] + dy), turn)
+                      for turn in rolls for dy in (-1, 0, 1) for dx in (-1, 0, 1)]
+        correlation, best = max((self._luma_correlation(view_back(frame, candidate)), index)
+                                for index, candidate in enumerate(candidates))
+        registration = candidates[best]
+        within = math.hypot(*registration.shift) <= bound_px
+        return registration if within and correlation >= SAME_VIEW_CORRELATION else None
+
+    def _roll(self, frame: np.ndarray, shift: tuple[int, int]) -> float:
+        """The roll of the view of ``frame`` moved by ``shift``, degrees: the view is turned back by what its halves
+        read (short for a small turn) and read again until it settles."""
+        halves, roll = self.derived["halves"], 0.0
+        for _ in range(ROLL_ROUNDS):
+            step = halves.roll(cell_means(view_back(frame, Registration(*shift, roll)), self.cell_px) @ LUMA)
+            roll += step
+            if abs(step) < ROLL_SETTLED_DEG or abs(roll) > 2 * REGISTRATION_BOUND_DEG:
+                break
+        return roll
 
     def _luma_correlation(self, frame: np.ndarray) -> float:
         return self._correlation(cell_means(frame, self.cell_px) @ LUMA)
@@ -712,7 +730,7 @@ class SceneReference:
 
     @staticmethod
     def _decide(fit: FitRange, spread: float, coherence: float, exposure: float, sharpness: float,
-                shift: tuple[float, float], peak: float, matching: float, colour_left: float | None,
+                shift: tuple[float, float], peak: float, roll: float, matching: float, colour_left: float | None,
                 cast: float | None, veil: float, noise: float, correlation: float) -> tuple[str, str]:
         if spread < COVERED_SPREAD:
             return COVERED, f"no scene: {spread:.2f} of the background's contrast (covered below {COVERED_SPREAD})"
@@ -730,6 +748,8 @@ class SceneReference:
         distance = math.hypot(*shift)
         if distance > MOVED_PX and peak >= MOVED_PEAK:
             return MOVED, f"moved {distance:.1f} px from the background (bound {MOVED_PX:g} px)"
+        if abs(roll) > ROLLED_DEG and peak >= MOVED_PEAK:
+            return MOVED, f"turned {roll:+.2f} degrees from the background, as read (bound {ROLLED_DEG:g})"
         if veil > fit.veil_share:
             return CHANGED, f"{veil:.2f} of the light is a veil's (fog, haze, glare; changed above " \
                             f"{fit.veil_share:.2f})"

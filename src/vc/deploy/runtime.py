@@ -21,9 +21,10 @@ conditions) and a person who is not there costs an appliance more than one it sa
 (docs/decisions/0013-scene-fitness.md). How far a frame may depart from the background and stay fit is what the
 bundle was compiled to see (its :class:`~vc.deploy.fitness.FitRange`: a bundle compiled over the camera's range
 takes dusk, white-balance drift, night IR and a wet lens as fit, docs/decisions/0014-camera-range.md). A view that
-moved (a bracket settling, a knocked camera) is registered against the background up to
-:data:`~vc.deploy.fitness.REGISTRATION_BOUND_PX` and compensated: each frame is moved back by the registration before
-the networks (the region map moves with the view) and the people moved forward again; the registration is kept from
+moved or turned (a bracket settling, a knocked camera) is registered against the background up to
+:data:`~vc.deploy.fitness.REGISTRATION_BOUND_PX` and :data:`~vc.deploy.fitness.REGISTRATION_BOUND_DEG` and compensated
+(:mod:`vc.deploy.registration`): each frame is moved and turned back by the registration before the networks (the
+region map moves with the view) and the people put forward again; the registration is kept from
 frame to frame and measured again when the fitness reads a move. A frame lit beyond the bundle's exposure range
 by at most :data:`~vc.deploy.exposure.REACH_STOPS` (sun on snow, a dome's glare) is brought back to the background's
 exposure before the networks when it then fits (:mod:`vc.deploy.exposure`); a view under a veil beyond the range
@@ -55,8 +56,9 @@ from vc.deploy.bundle import NO_REFERENCE, Bundle, RegionEntry, load_bundle
 from vc.deploy.decode import UPRIGHT_PRIOR, DecodeConfig, DecodedPerson, UprightPrior, decode
 from vc.deploy.engines import DEFAULT_ENGINE, checked_engine, graph_session
 from vc.deploy.exposure import BROUGHT_BACK_AGREEMENT, KEPT_CORRECTION_STOPS, correction_stops, exposed
-from vc.deploy.fitness import COVERED, DARK, MOVED, OVEREXPOSED, STATES, UNFIT_STATES, FrameFitness, translated
+from vc.deploy.fitness import COVERED, DARK, MOVED, OVEREXPOSED, STATES, UNFIT_STATES, FrameFitness
 from vc.deploy.native import checked_decoder
+from vc.deploy.registration import Registration, view_back
 from vc.deploy.veil import near, unveiled, veil_tables, veiled
 from vc.errors import InputError
 
@@ -300,9 +302,9 @@ class Runtime:
         self.unfit = unfit
         #: The fitness of the last frame ``runtime(frame)`` or :meth:`run` saw (None before the first).
         self.last_fitness: FrameFitness | None = None
-        #: How far (x, y, whole frame pixels) the view has moved from the background's, compensated on every frame
-        #: until the fitness reads another move (module docstring).
-        self.registration: tuple[int, int] = (0, 0)
+        #: How far the view has moved (whole frame pixels) and turned from the background's, compensated on every
+        #: frame until the fitness reads another move (module docstring).
+        self.registration = Registration()
         #: The stops the last frame, lit beyond the range, was brought back by: the next frame's networks start on
         #: it corrected so (module docstring; None: the frames go to the networks with the light the camera gave).
         self.exposure_correction: float | None = None
@@ -354,7 +356,7 @@ class Runtime:
         if not self.runners:
             raise RuntimeError("this runtime was closed")
         self.check_frame(frame)
-        seen = translated(frame, self.registration)
+        seen = view_back(frame, self.registration)
         # the networks start on a guess, the frame as the last one was shown to them, while the fitness is measured
         guess = self._corrected(seen)
         pending = self._start(guess)
@@ -363,7 +365,7 @@ class Runtime:
             registration = self.bundle.reference.register(frame)
             if registration is not None:  # within the bound: the view is moved back and measured again
                 self.registration = registration
-                seen, guess = translated(frame, registration), None  # the guess showed the view where it was
+                seen, guess = view_back(frame, registration), None  # the guess showed the view where it was
                 fitness = self.fitness(seen)
         shown, exposure, tables = seen, None, None
         brought_back = self._brought_back(seen, fitness, guess)
@@ -375,8 +377,9 @@ class Runtime:
             shown, judged, tables = unveiled_frame
             fitness = replace(judged, veil_taken_off=fitness.veil)
         self.exposure_correction, self.veil_correction = exposure, tables
-        if self.registration != (0, 0):
-            fitness = replace(fitness, registered_px=self.registration)
+        if not self.registration.still:
+            fitness = replace(fitness, registered_px=self.registration.shift,
+                              registered_roll_deg=self.registration.roll_deg or None)
         self.last_fitness = fitness
         if fitness.state == COVERED or (fitness.unfit and self.unfit == "suppress"):
             self._cancel(pending)
@@ -387,7 +390,8 @@ class Runtime:
         per_region = ([runner.people(shown) for runner in self.runners] if pending is None
                       else [future.result() for future in pending])
         people = sorted((person for found in per_region for person in found), key=lambda person: -person.score)
-        result = FrameResult([within_frame(moved_by(person, self.registration), self.bundle.frame_size)
+        result = FrameResult([within_frame(moved_by(person, self.registration, self.bundle.frame_size),
+                                           self.bundle.frame_size)
                               for person in without_seam_duplicates(people)], fitness,
                              network_s=sum(runner.last_seconds[0] for runner in self.runners),
                              decode_s=sum(runner.last_seconds[1] for runner in self.runners))
@@ -470,14 +474,20 @@ class Runtime:
         return self.run(frame).people
 
 
-def moved_by(person: Person, shift: tuple[int, int]) -> Person:
-    """``person``, found on a frame moved back by ``shift`` (x, y) pixels, in the frame's own pixels (the same
-    object, changed)."""
-    dx, dy = shift
-    if dx or dy:
-        person.box = person.box + np.array([dx, dy, dx, dy], person.box.dtype)
-        person.keypoints = person.keypoints + np.array([dx, dy, 0], person.keypoints.dtype)
-        person.mask_origin = (person.mask_origin[0] + dx, person.mask_origin[1] + dy)
+def moved_by(person: Person, registration: Registration, frame_size: tuple[int, int]) -> Person:
+    """``person``, found on a frame moved and turned back by ``registration``, in the frame's own pixels (the same
+    object, changed). The keypoints follow the view; the box and the mask follow its centre and keep their size and
+    pixels: the registrations turn a fraction of a degree to a few, which changes a person's box by a pixel or two."""
+    if registration.still:
+        return person
+    x0, y0, x1, y1 = person.box
+    centre = np.array([(x0 + x1) / 2.0, (y0 + y1) / 2.0])
+    dx, dy = registration.forward(centre, frame_size)[0] - centre
+    person.box = person.box + np.array([dx, dy, dx, dy], person.box.dtype)
+    keypoints = person.keypoints.copy()
+    keypoints[:, :2] = registration.forward(keypoints[:, :2], frame_size)
+    person.keypoints = keypoints
+    person.mask_origin = (person.mask_origin[0] + int(round(dx)), person.mask_origin[1] + int(round(dy)))
     return person
 
 

@@ -36,7 +36,9 @@ the scene through the air and the lens to the sensor, in linear light (:meth:`Ca
 
 A share :attr:`CameraRange.varied` of the draws is varied; the rest keep the look the scene was calibrated to, which
 stays the common case. Geometry is not varied: a nudged camera moves the picture by a few pixels, which the fully
-convolutional network already meets as the training windows' random positions (a window is cut anywhere).
+convolutional network already meets as the training windows' random positions (a window is cut anywhere), and a roll
+of a fraction of a degree the networks hold; a larger move or roll the runtime registers and undoes
+(docs/decisions/0026-camera-roll.md).
 Every draw is a pure function of the stream's generator, as the rest of a training item is.
 """
 
