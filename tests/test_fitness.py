@@ -452,7 +452,7 @@ def test_vc_run_writes_each_frames_fitness_and_counts_the_states(referenced_bund
     assert lines[5]["people"] and lines[5]["fitness"]["veil_taken_off"] > 0.5
     summary = json.loads((output / "summary.json").read_text())["fitness"]
     assert summary == {"states": {"ok": 4, "dark": 1, "covered": 1}, "unfit_frames": 2, "unfit": "suppress",
-                       "exposure_corrected_frames": 1, "veil_taken_off_frames": 1}
+                       "exposure_corrected_frames": 1, "veil_taken_off_frames": 1, "registered_frames": 0}
     assert "scene fitness: 4 ok, 1 dark, 1 covered (1 brought back from light beyond the range, 1 with a veil beyond " \
            "the range taken off); the people of the 2 unfit frame(s) withheld" in capsys.readouterr().out
     flagged = tmp_path / "flagged"
@@ -474,7 +474,7 @@ def test_vc_eval_counts_the_scored_frames_per_state(referenced_bundle, backgroun
                     str(tmp_path / "out"), "--no-hog", "--threads", "1", "--frames", "1:4", "--quiet"]) == 0
     fitness = json.loads((tmp_path / "out" / "metrics.json").read_text())["fitness"]
     assert fitness == {"states": {"ok": 2, "dark": 1, "covered": 1}, "unfit_frames": 2, "unfit": "suppress",
-                       "exposure_corrected_frames": 0, "veil_taken_off_frames": 0}
+                       "exposure_corrected_frames": 0, "veil_taken_off_frames": 0, "registered_frames": 0}
     assert "scene fitness: 2 ok, 1 dark, 1 covered;" in capsys.readouterr().out
     lines = [json.loads(line) for line in (tmp_path / "out" / "detections.jsonl").read_text().splitlines()]
     assert lines[1]["people"] == [] and lines[3]["people"] == []
@@ -861,6 +861,7 @@ def test_a_rolled_view_is_registered_and_its_people_reported_where_they_stand(re
         assert seen.fitness.state == fit.OK and seen.fitness.registered_roll_deg == pytest.approx(2.0, abs=0.5)
         assert seen.fitness.to_dict()["registered_roll_deg"] == pytest.approx(2.0, abs=0.5)
         assert np.abs(np.subtract(runtime.registration.shift, knocked.shift)).max() <= 1
+        assert runtime.fitness_summary([still.fitness, seen.fitness])["registered_frames"] == 1
         # the strongest person where the camera shows them: the box's centre carried by the roll and the move (the
         # test network's faint peaks, which it reports too, change with the view's pixels)
         x0, y0, x1, y1 = max(still.people, key=lambda person: person.score).box

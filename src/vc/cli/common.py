@@ -79,7 +79,8 @@ def fitness_line(fitness: dict) -> str:
     counts = ", ".join(f"{count} {state}" for state, count in states.items()) or "no frames"
     corrected = [f"{fitness[key]} {what}" for key, what in (
         ("exposure_corrected_frames", "brought back from light beyond the range"),
-        ("veil_taken_off_frames", "with a veil beyond the range taken off")) if fitness.get(key)]
+        ("veil_taken_off_frames", "with a veil beyond the range taken off"),
+        ("registered_frames", "with the view moved or turned back")) if fitness.get(key)]
     if corrected:
         counts += f" ({', '.join(corrected)})"
     if not fitness["unfit_frames"]:

@@ -459,14 +459,16 @@ class Runtime:
     def fitness_summary(self, frames: Iterable[FrameFitness]) -> dict:
         """A run's scene fitness for its summary, from each frame's fitness: frames per state (in
         :data:`~vc.deploy.fitness.STATES` order), how many were unfit, the ``unfit`` setting, how many were brought
-        back from light beyond the range (``exposure_corrected_stops``) or had a veil beyond it taken off
-        (``veil_taken_off``) and, without a reference, why every frame is unknown."""
+        back from light beyond the range (``exposure_corrected_stops``), had a veil beyond it taken off
+        (``veil_taken_off``) or their view moved or turned back (``registered_px``) and, without a reference, why
+        every frame is unknown."""
         frames = list(frames)
         states = Counter(fitness.state for fitness in frames)
         return {"states": {state: states[state] for state in STATES if states.get(state)},
                 "unfit_frames": sum(states.get(state, 0) for state in UNFIT_STATES), "unfit": self.unfit,
                 "exposure_corrected_frames": sum(fitness.exposure_corrected_stops is not None for fitness in frames),
                 "veil_taken_off_frames": sum(fitness.veil_taken_off is not None for fitness in frames),
+                "registered_frames": sum(fitness.registered_px is not None for fitness in frames),
                 **({} if self.bundle.reference is not None else {"unknown_because": NO_REFERENCE})}
 
     def __call__(self, frame: np.ndarray) -> list[Person]:
