@@ -23,7 +23,8 @@ where the condition moves it (a nudged or rolled camera). The conditions:
   noise.
 
 Random conditions are seeded per condition and frame (:func:`condition_seed`): a rerun changes the frames to the
-same bytes.
+same bytes. Each condition starts the bundle's runtime afresh (:meth:`vc.deploy.runtime.Runtime.reset`): what it
+carries from frame to frame, a moved view's registration above all, is a camera's, not one condition's to the next.
 
 Measured per condition: AP50 of each detector (:func:`vc.evaluation.metrics.evaluate`) and the scene fitness states the
 bundle's runtime gave the frames (:mod:`vc.deploy.fitness`: what it withheld, flagged or ran, and which it brought back
@@ -714,6 +715,7 @@ def run(args: RobustnessRequest) -> dict:
             measurements = []
             for condition in conditions:
                 progress.set_postfix_str(condition.key)
+                runtime.reset()  # a registration is the camera's, not carried from one condition to the next
                 measurements.append(measure(condition, selected, truth, background, detectors, progress))
     numbers = [frame.number for frame in selected]
     halves = positions_by_half(numbers, frames.first, frames.last or numbers[-1]) if numbers else {}

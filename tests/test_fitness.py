@@ -869,6 +869,10 @@ def test_a_rolled_view_is_registered_and_its_people_reported_where_they_stand(re
         centres = np.array([[(x0 + x1) / 2, (y0 + y1) / 2] for x0, y0, x1, y1 in (p.box for p in seen.people)])
         assert np.linalg.norm(centres - expected, axis=1).min() < 1.0  # 2.3 px off if left where it was found
         assert runtime.run(frame).fitness.registered_roll_deg is None and runtime.registration.still  # turned back
+        runtime.run(rolled)
+        runtime.reset()  # another clip: the registration is forgotten, and found again on its first rolled frame
+        assert runtime.registration.still and runtime.last_fitness is None
+        assert runtime.run(rolled).fitness.registered_roll_deg == pytest.approx(2.0, abs=0.5)
 
 
 def test_a_view_moved_beyond_the_bound_is_moved(referenced_bundle, background):

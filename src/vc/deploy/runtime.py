@@ -322,6 +322,13 @@ class Runtime:
                         for index, entry in enumerate(self.bundle.regions)]
         self.pool = ThreadPoolExecutor(max_workers=threads or cores) if parallel_regions else None
 
+    def reset(self) -> None:
+        """Forget what the runtime carries from frame to frame (the view's registration, the last frame's tone
+        correction): the next frame is measured as a camera's first (another camera, another clip)."""
+        self.registration = Registration()
+        self.exposure_correction, self.veil_correction = None, None
+        self.last_fitness = None
+
     def check_frame(self, frame: np.ndarray) -> None:
         width, height = self.bundle.frame_size
         if not isinstance(frame, np.ndarray) or frame.dtype != np.uint8:
