@@ -280,3 +280,51 @@ def test_a_looped_one_image_folder_is_played_at_its_rate_not_as_fast_as_it_reads
     assert 15 <= reader.snapshot().frames_read <= 25  # 20 frames a second, across the loop's restarts
     # its opening is logged once, not at every restart
     assert sum("reading" in record.getMessage() for record in caplog.records) == 1
+
+
+def test_a_camera_that_stops_showing_its_scene_says_so_in_its_health_log_and_metrics(bundle, tmp_path, caplog):
+    import logging
+
+    import cv2
+
+    from vc.deploy.bundle import MANIFEST
+    from vc.deploy.fitness import SceneReference
+    from vc.model.export import with_reference, write_bundle
+    from vc.serve.health import ServiceMetrics
+    from vc.serve.service import SETTLED_FRAMES, CameraWorker, EventSink
+
+    rng = np.random.default_rng(3)
+    texture = [cv2.GaussianBlur(rng.normal(0, 1, (64, 128, 3)).astype(np.float32), (0, 0), sigma) for sigma in (2, 8)]
+    view = np.clip(128 + sum(40 * part / part.std() for part in texture), 0, 255).astype(np.uint8)  # a scene
+    manifest = json.loads((bundle / MANIFEST).read_text())
+    files = {path.relative_to(bundle).as_posix(): path.read_bytes() for path in bundle.rglob("*")
+             if path.is_file() and path.name != MANIFEST}
+    decode = (np.arange(256, dtype=np.float32) / 255) ** 2.2
+    manifest, files = with_reference(manifest, files, SceneReference.of_background(view, decode), "a test view")
+    write_bundle(manifest, files, tmp_path / "referenced", as_zip=False)
+    config = read_serve_config(_config(tmp_path, GOOD, tmp_path / "referenced"))
+    metrics = ServiceMetrics()
+    worker = CameraWorker(config.cameras[0], load_bundle(tmp_path / "referenced"), config,
+                          EventSink(config, EventQueue(tmp_path / "queue.db", 100), metrics), metrics)
+    moved = np.ascontiguousarray(np.pad(view, ((0, 0), (5, 0), (0, 0)), mode="edge")[:, :128])  # 5 px to the right
+    frames = [view] * 3 + [np.zeros_like(view)] * 2 + [view] * 2 + [np.zeros_like(view)] * SETTLED_FRAMES \
+        + [view] * SETTLED_FRAMES + [moved] * SETTLED_FRAMES
+    states = []
+    with caplog.at_level(logging.INFO, logger="vc.serve"):
+        for number, image in enumerate(frames, 1):
+            worker.process(CapturedFrame(number, image, time.time(), float(number)))
+            states.append(worker.health(float(number))["scene"]["state"])
+    # the first frame settles at once; two black frames are a blip, five a covered camera, told once, then back
+    assert states[:7] == ["ok"] * 7 and states[7 + SETTLED_FRAMES - 2] == "ok"
+    assert states[7 + SETTLED_FRAMES - 1] == "covered" and states[-1] == "ok"
+    scene = worker.health(float(len(frames)))["scene"]
+    assert scene["registered_px"] == [5, 0] and scene["registered_roll_deg"] is None and scene["for_s"] >= 0
+    messages = [(record.levelname, record.getMessage()) for record in caplog.records]
+    told = [(level, message) for level, message in messages if "scene" in message]
+    assert len(told) == 3 and told[0] == ("INFO", "camera gate: scene ok") and told[2] == ("INFO",
+                                                                                          "camera gate: scene ok again")
+    assert told[1][0] == "WARNING" and told[1][1].startswith("camera gate: scene covered (no scene")
+    assert ("WARNING", "camera gate: the view is moved (5, 0) px from the background's, and compensated") in messages
+    exposition = metrics.exposition().decode()
+    assert 'vc_frames_fitness_total{camera="gate",state="covered"} 7.0' in exposition
+    worker.runtime.close()

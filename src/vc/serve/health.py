@@ -38,6 +38,8 @@ class ServiceMetrics:
         self.frames_dropped = counter("vc_frames_dropped", "Frames replaced by a newer one before they were run")
         self.frames_refused = counter("vc_frames_refused", "Frames of another size than the bundle's camera")
         self.frames_withheld = counter("vc_frames_withheld", "Frames whose people were withheld by the scene fitness")
+        self.frames_by_fitness = counter("vc_frames_fitness", "Frames run, by their scene fitness state",
+                                         ("camera", "state"))
         self.reconnects = counter("vc_camera_reconnects", "Times a camera was reopened")
         self.faults = counter("vc_frame_faults", "Frames whose processing failed (logged; the service went on)")
         self.people = counter("vc_people", "People reported (one per person per frame)")

@@ -9,7 +9,10 @@ takes that frame, runs the bundle (:class:`~vc.deploy.runtime.Runtime`, scene fi
 
 Faults stay inside their camera: a frame whose processing raises is logged with its traceback, counted
 (``vc_frame_faults``) and named in the health, and the worker takes the next frame. A camera that goes silent ends
-its tracks once the tracker would (``max_gap_s``).
+its tracks once the tracker would (``max_gap_s``). A camera that stops showing its scene says so
+(:class:`SceneWatch`): each frame's scene fitness is counted by state (``vc_frames_fitness``), the health gives the
+camera's scene state, since when, and the view's registration, and a change of state or registration that holds for
+:data:`SETTLED_FRAMES` frames is logged once (a warning when the camera cannot see: covered, dark, moved ...).
 
 :meth:`Service.stop` (SIGTERM, SIGINT) stops the readers, lets each worker finish the frame in flight and end its
 live tracks (``reason: shutdown``), waits briefly for the broker to acknowledge what is in flight, and closes the
@@ -26,6 +29,7 @@ import time
 import traceback
 
 from vc.deploy.bundle import Bundle, load_bundle
+from vc.deploy.fitness import UNFIT_STATES, FrameFitness
 from vc.deploy.runtime import Runtime
 from vc.deploy.tracking import Tracker
 from vc.deploy.zones import SceneZones
@@ -40,6 +44,60 @@ log = logging.getLogger("vc.serve")
 
 #: How long a stopping service waits for the broker to acknowledge the events in flight (the rest stay queued).
 DRAIN_S = 2.0
+#: A camera's scene state or registration is logged once it has held this many frames: a frame or two of a passing
+#: lorry or a flash does not fill the log, a covered lens or a knocked camera is told within a second.
+SETTLED_FRAMES = 5
+
+
+class SceneWatch:
+    """What one camera's frames say of its scene, for the health and the log: the settled scene fitness state, since
+    when, and the view's registration (module docstring)."""
+
+    def __init__(self, camera: str) -> None:
+        self.camera = camera
+        self.state: str | None = None  # the settled state (None before the first frame has settled one)
+        self.reason = ""
+        self.since: float | None = None  # monotonic time the settled state began
+        self.view: tuple[tuple[int, int] | None, float | None] = (None, None)  # registered_px, registered_roll_deg
+        self._candidate: tuple[str, tuple] | None = None
+        self._held, self._first_seen = 0, 0.0
+
+    def update(self, fitness: FrameFitness, now: float) -> None:
+        """One frame's ``fitness`` at ``now`` (monotonic); logs a change once it has held :data:`SETTLED_FRAMES`."""
+        view = (fitness.registered_px, fitness.registered_roll_deg)
+        seen = (fitness.state, view)
+        if seen == (self.state, self.view):
+            self._candidate, self._held = None, 0
+            self.reason = fitness.reason
+            return
+        if seen != self._candidate:
+            self._candidate, self._held, self._first_seen = seen, 0, now
+        self._held += 1
+        if self._held < SETTLED_FRAMES and self.state is not None:
+            return
+        if fitness.state != self.state:
+            level = logging.WARNING if fitness.state in UNFIT_STATES else logging.INFO
+            log.log(level, "camera %s: scene %s%s", self.camera, fitness.state,
+                    f" ({fitness.reason})" if fitness.reason else (" again" if self.state is not None else ""))
+            self.since = self._first_seen
+        if view != self.view:
+            log.log(logging.INFO if view[0] is None else logging.WARNING, "camera %s: the view is %s", self.camera,
+                    _view_words(*view))
+        self.state, self.view, self.reason = fitness.state, view, fitness.reason
+        self._candidate, self._held = None, 0
+
+    def health(self, now: float) -> dict:
+        shift, roll = self.view
+        return {"state": self.state, "reason": self.reason or None,
+                "for_s": None if self.since is None else round(now - self.since, 1),
+                "registered_px": None if shift is None else list(shift), "registered_roll_deg": roll}
+
+
+def _view_words(shift: tuple[int, int] | None, roll: float | None) -> str:
+    if shift is None:
+        return "the background's again"
+    turned = f", turned {roll:+.2f} degrees" if roll else ""
+    return f"moved ({shift[0]}, {shift[1]}) px{turned} from the background's, and compensated"
 
 
 class EventSink:
@@ -95,6 +153,7 @@ class CameraWorker(threading.Thread):
         self.reader = CameraReader(camera, bundle.frame_size, self._counted)
         self.started = time.monotonic()
         self.frames_run = 0
+        self.scene = SceneWatch(camera.name)
         self.last_fault: str | None = None
         self._stopping = threading.Event()
         self._last_time = -float("inf")
@@ -117,7 +176,7 @@ class CameraWorker(threading.Thread):
                     self._expire(time.monotonic())
                     continue
                 try:
-                    self._process(frame)
+                    self.process(frame)
                 except Exception as error:  # a fault stays in its frame: logged, counted, reported; the camera goes on
                     self.last_fault = f"frame {frame.number}: {type(error).__name__}: {error}"
                     self.metrics.faults.labels(self.camera.name).inc()
@@ -128,7 +187,8 @@ class CameraWorker(threading.Thread):
             self.reader.join(timeout=10)
             self.runtime.close()
 
-    def _process(self, frame: CapturedFrame) -> None:
+    def process(self, frame: CapturedFrame) -> None:
+        """One frame: run, tracked, its events queued, counted; its scene fitness watched."""
         start = time.perf_counter()
         time_s = max(frame.monotonic, self._last_time + 1e-6)  # the tracker needs strictly increasing times
         self._last_time = time_s
@@ -141,6 +201,8 @@ class CameraWorker(threading.Thread):
         self.frames_run += 1
         self.metrics.frames_run.labels(name).inc()
         self.metrics.people.labels(name).inc(len(people))
+        self.metrics.frames_by_fitness.labels(name, result.fitness.state).inc()
+        self.scene.update(result.fitness, frame.monotonic)
         self.metrics.tracks.labels(name).inc(sum(event["type"] == "new" for event in events))
         if result.suppressed:
             self.metrics.frames_withheld.labels(name).inc()
@@ -166,7 +228,7 @@ class CameraWorker(threading.Thread):
                 "frames_read": status.frames_read, "frames_run": self.frames_run,
                 "frames_dropped": self.reader.latest.dropped, "frames_refused": status.frames_refused,
                 "reconnects": status.reconnects, "live_tracks": len(self.events.tracks),
-                "last_error": status.last_error, "last_fault": self.last_fault}
+                "scene": self.scene.health(now), "last_error": status.last_error, "last_fault": self.last_fault}
 
 
 class Service:
