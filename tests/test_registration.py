@@ -69,10 +69,20 @@ def test_translated_is_a_whole_pixel_move():
 def test_the_halves_read_a_roll_with_its_sign_and_short():
     luma = _texture((96, 72))[..., 1].astype(np.float32)
     halves = HalvesReference(luma)
-    assert halves.roll(luma) == pytest.approx(0.0, abs=1e-6)
+    assert halves.roll(luma, 0.15) == pytest.approx(0.0, abs=1e-6)
     for degrees in (1.5, -1.5):
-        read = halves.roll(turned(luma, Registration(roll_deg=degrees)))
+        read = halves.roll(turned(luma, Registration(roll_deg=degrees)), 0.15)
         assert np.sign(read) == np.sign(degrees) and 0.2 * abs(degrees) < abs(read) < 1.2 * abs(degrees)
+
+
+def test_a_half_without_a_clear_peak_does_not_read_a_roll():
+    luma = _texture((96, 72))[..., 1].astype(np.float32)
+    halves = HalvesReference(luma)
+    crowded = turned(luma, Registration(roll_deg=1.5))
+    crowded[:, 56:] = np.random.default_rng(1).normal(128, 40, (72, 40))  # a crowd or noise hides its right part
+    assert abs(halves.roll(crowded, 0.0)) > 3.0  # every half counted, the hidden ones move anywhere
+    assert halves.roll(crowded, 0.15) == 0.0  # neither pair clear: no roll read
+    assert halves.roll(np.random.default_rng(2).normal(128, 40, (72, 96)), 0.15) == 0.0
 
 
 @pytest.fixture(scope="module")

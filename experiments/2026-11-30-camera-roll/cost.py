@@ -43,7 +43,7 @@ def main() -> None:
     reference, fit_range = bundle.reference, bundle.fit_range
     frames = [frame.image for frame in FrameSource(args.video, args.frames)]
     halves = reference.derived["halves"]
-    no_roll = type("NoRoll", (), {"roll": staticmethod(lambda luma: 0.0)})()
+    no_roll = type("NoRoll", (), {"roll": staticmethod(lambda luma, clear_peak: 0.0)})()
     shipped, without = [], []
     for _ in range(REPEATS):
         for frame in frames:

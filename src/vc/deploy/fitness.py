@@ -565,7 +565,7 @@ class SceneReference:
         matching = float(np.mean(matching_cells))
 
         shift, peak = self._shift(luma)
-        roll = reference["halves"].roll(luma)
+        roll = reference["halves"].roll(luma, MOVED_PEAK)
 
         colour_left, cast = self._colour(scene, matching_cells & unclipped)
         if veil > 0.0 and cast is not None:
@@ -693,7 +693,8 @@ class SceneReference:
         read (short for a small turn) and read again until it settles."""
         halves, roll = self.derived["halves"], 0.0
         for _ in range(ROLL_ROUNDS):
-            step = halves.roll(cell_means(view_back(frame, Registration(*shift, roll)), self.cell_px) @ LUMA)
+            view = view_back(frame, Registration(*shift, roll))
+            step = halves.roll(cell_means(view, self.cell_px) @ LUMA, MOVED_PEAK)
             roll += step
             if abs(step) < ROLL_SETTLED_DEG or abs(roll) > 2 * REGISTRATION_BOUND_DEG:
                 break

@@ -12,8 +12,9 @@ background (docs/decisions/0026-camera-roll.md). So the runtime reads both and u
 2. **The roll**: the same correlation on the left and right halves of the cells, and on the top and bottom halves
    (:class:`HalvesReference`). A view turned by ``a`` (counter-clockwise on the screen) lifts its right half and
    lowers its left by ``a`` times the halves' distance, and moves its top half left and its bottom half right; the
-   two readings are weighed by their lever arms. Coarse cells read a small turn short (1 degree as 0.4-0.6), so the
-   view is turned back by what they read and read again, as the move's rounds do.
+   two readings are weighed by their lever arms, each only where both its halves' correlation peaks are clear.
+   Coarse cells read a small turn short (1 degree as 0.4-0.6), so the view is turned back by what they read and
+   read again, as the move's rounds do.
 3. **The view undone**: one gather of the frame's pixels per frame (:func:`view_back`), the nearest pixel (half a
    pixel at most off, under what the networks' input scales resolve), its indices kept for the registration in
    force. A view that only moved is cut and padded (:func:`translated`), as before a roll was read.
@@ -141,12 +142,16 @@ class HalvesReference:
                        for part in ((slice(None), slice(0, width // 2)), (slice(None), slice(width // 2, None)),
                                     (slice(0, height // 2), slice(None)), (slice(height // 2, None), slice(None)))]
 
-    def roll(self, luma: np.ndarray) -> float:
+    def roll(self, luma: np.ndarray, clear_peak: float) -> float:
         """How far ``luma``'s content turned from the background's, degrees counter-clockwise on the screen, as the
-        cells read it (short for a small turn)."""
-        (_, left_y, _), (_, right_y, _), (top_x, _, _), (bottom_x, _, _) = [
+        cells read it (short for a small turn). A pair of halves counts only when both their correlation peaks reach
+        ``clear_peak``: a half that a crowd or a corruption leaves without a clear peak moves anywhere (TUD-Stadtmitte
+        read turns of 5-7 degrees so); with neither pair clear, the reading is 0."""
+        (_, left_y, left), (_, right_y, right), (top_x, _, top), (bottom_x, _, bottom) = [
             phase_correlation(luma[part], window, conjugate) for part, window, conjugate in self.halves]
-        across = -(right_y - left_y) / (self.width / 2.0)  # radians, from the left and right halves ...
-        down = (bottom_x - top_x) / (self.height / 2.0)  # ... and from the top and bottom ones
-        weighed = (across * self.width ** 2 + down * self.height ** 2) / (self.width ** 2 + self.height ** 2)
-        return math.degrees(weighed)
+        pairs = [(-(right_y - left_y) / (self.width / 2.0), self.width ** 2, min(left, right)),  # radians, lever arm
+                 ((bottom_x - top_x) / (self.height / 2.0), self.height ** 2, min(top, bottom))]
+        clear = [(reading, arm) for reading, arm, peak in pairs if peak >= clear_peak]
+        if not clear:
+            return 0.0
+        return math.degrees(sum(reading * arm for reading, arm in clear) / sum(arm for _, arm in clear))
