@@ -67,6 +67,7 @@ from vc.calibration.materials import luminance  # noqa: E402
 from vc.calibration.response import Response  # noqa: E402
 from vc.cores import cpu_facts, usable_cores  # noqa: E402
 from vc.deploy.frames import Frame, FrameRange, FrameSource, read_frame_image  # noqa: E402
+from vc.deploy.registration import Registration  # noqa: E402
 from vc.deploy.runtime import DEFAULT_UNFIT, UNFIT_SETTINGS, Runtime  # noqa: E402
 from vc.errors import InputError  # noqa: E402
 from vc.evaluation.baselines import Detections, YoloPoseOnnx  # noqa: E402
@@ -147,11 +148,9 @@ def roll(frame: np.ndarray, degrees: float) -> np.ndarray:
 
 def image_motion(frame_size: tuple[int, int], shift: tuple[int, int] = (0, 0), roll_deg: float = 0.0) -> np.ndarray:
     """The (2, 3) affine map of a frame's content (``frame_size``: width, height) turned by ``roll_deg``
-    counter-clockwise about the frame's centre, then moved by ``shift`` (x, y) px."""
-    width, height = frame_size
-    motion = cv2.getRotationMatrix2D(((width - 1) / 2.0, (height - 1) / 2.0), roll_deg, 1.0)
-    motion[:, 2] += shift
-    return motion
+    counter-clockwise about the frame's centre, then moved by ``shift`` (x, y) px: the runtime's own
+    (:meth:`vc.deploy.registration.Registration.matrix`), which undoes it."""
+    return Registration(int(shift[0]), int(shift[1]), float(roll_deg)).matrix(frame_size)
 
 
 def moved_boxes(boxes: np.ndarray, motion: np.ndarray, frame_size: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:

@@ -61,8 +61,8 @@ class Registration:
 
     def forward(self, points: np.ndarray, frame_size: tuple[int, int]) -> np.ndarray:
         """``points`` (N, 2) x, y found on the view undone, where the frame shows them."""
-        points = np.asarray(points, np.float64).reshape(-1, 2)
-        return points @ self.matrix(frame_size)[:, :2].T + self.matrix(frame_size)[:, 2]
+        matrix = self.matrix(frame_size)
+        return np.asarray(points, np.float64).reshape(-1, 2) @ matrix[:, :2].T + matrix[:, 2]
 
 
 def translated(frame: np.ndarray, shift: tuple[int, int]) -> np.ndarray:
