@@ -6,7 +6,8 @@
 Writes ``RUN/checkpoints/<region>.pt`` (resumable: run the same command again after an interruption),
 ``RUN/metrics.json`` (held-out synthetic AP50, PCKh@0.5 overall and per keypoint, mask IoU, recall of people
 overlapping another, training speed, per region), ``RUN/precision_recall.png`` and, per region,
-``RUN/<region>/{precision_recall,training_loss}.png``.
+``RUN/<region>/{precision_recall,training_loss}.png``, and the facing model with what it measured,
+``RUN/facing.{onnx,json}`` (:mod:`vc.model.facing`).
 A scene planned with ``regions: {mode: single}`` has one region for its whole walkable area: training it is the
 paper's SPN-G. Bad input prints one ``error:`` line and exits with status 2.
 """
@@ -20,9 +21,10 @@ from vc import __version__
 from vc.cli.common import handles_input_errors, non_negative_int, positive_float, positive_int
 from vc.evaluation.metrics import Evaluation
 from vc.model.config import PRESETS
+from vc.model.facing import FACING_MODEL
 from vc.model.trainer import RegionResult
 from vc.stages.config import TrainSettings, train_settings
-from vc.stages.train import METRICS, TrainingJob, prepare_training
+from vc.stages.train import METRICS, TrainingJob, prepare_training, read_metrics
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -79,7 +81,20 @@ def report_results(results: list[RegionResult], run: Path) -> None:
                      f"{evaluation.mask_iou or 0:8.3f} {evaluation.ground_truth:7d} {grouped:>12} {result.steps:6d} "
                      f"{result.train_seconds / 60:6.1f} {result.images_per_second:6.1f}")
     print("\n".join(lines))
+    facing = read_metrics(run).get("facing") if (run / METRICS).is_file() else None
+    if facing is not None:
+        print(f"facing model: {_facing_line(facing)}" + ("" if "skipped" in facing else f" -> {run / FACING_MODEL}"))
     print(f"checkpoints in {run / 'checkpoints'}, metrics in {run / METRICS}")
+
+
+def _facing_line(facing: dict) -> str:
+    """What the run's facing model measured (vc.model.facing), or why it has none."""
+    if "skipped" in facing:
+        return f"none: {facing['skipped']}"
+    accuracy = facing["held_out_accuracy"]
+    measured = (f"{accuracy:.3f} of {facing['held_out_crops']} held-out people read facing the right way"
+                if accuracy is not None else "no held-out people to measure it on")
+    return f"{measured} ({facing['train_crops']} trained on)"
 
 
 @handles_input_errors

@@ -22,6 +22,10 @@ depart from the background and still be fit, what the networks were compiled to 
 The manifest's optional ``decoder_file`` names the flat file a decoder outside Python reads
 (:mod:`vc.deploy.decoder_file`), checked like every member.
 
+The manifest's optional ``facing`` (``model``, ``model_sha256``, ``crop_size``) names the facing model, which
+reads from each person's crop whether they are seen from the front or from behind (:mod:`vc.deploy.facing`); a
+bundle without it orders a person's left and right by its networks' handedness maps, as before.
+
 The manifest's optional ``zones`` are the scene's named areas, in frame pixels or on the ground, that a service
 reports people entering and leaving (:mod:`vc.deploy.zones`); a malformed zone is refused by name.
 """
@@ -50,6 +54,8 @@ MANIFEST = "manifest.json"
 MODELS = "models"
 #: The manifest's optional entry for the scene fitness reference, and the member it names in bundles vc-export writes.
 REFERENCE, REFERENCE_MEMBER = "reference", "reference/background.npz"
+#: The manifest's optional entry for the facing model, and the member it names in bundles vc-export writes.
+FACING, FACING_MEMBER = "facing", "models/facing.onnx"
 #: Why a bundle without a reference reports its frames' fitness as unknown.
 NO_REFERENCE = ("the bundle carries no background reference (exported without its scene, or before scene fitness: "
                 "export the run again with vc-export --scene)")
@@ -81,6 +87,7 @@ class Bundle:
     reference: SceneReference | None = None  # the scene's background for scene fitness; None: not carried
     fit_range: FitRange = BACKGROUND_ONLY  # how far a fit frame may depart from it (the module docstring)
     zones: tuple[Zone, ...] = ()  # the scene's named zones (vc.deploy.zones)
+    facing: bytes | None = None  # the facing model (ONNX, vc.deploy.facing); None: not carried
 
     @property
     def frame_size(self) -> tuple[int, int]:
@@ -204,8 +211,12 @@ def load_bundle(path: str | Path, public_key: Path | bytes | None = None) -> Bun
         raise InputError(path, f"{MANIFEST}: regions", "the bundle has no regions")
     if "decoder_file" in manifest:  # optional: bundles exported before it lack it, and load as before
         _checked(files, manifest, "decoder_file", f"{MANIFEST}: ")
+    facing = None
+    if FACING in manifest:  # optional: bundles exported before the facing model lack it, and load as before
+        facing = _checked(files, _require(manifest, FACING, dict, f"{MANIFEST}: ", path), "model",
+                          f"{MANIFEST}: {FACING}.")
     return Bundle(path, manifest, regions, _reference(files, manifest, path), _fit_range(manifest, path),
-                  tuple(zones_from_manifest(manifest, path)))
+                  tuple(zones_from_manifest(manifest, path)), facing)
 
 
 def _fit_range(manifest: dict, path: Path) -> FitRange:

@@ -56,6 +56,7 @@ from vc.deploy.bundle import NO_REFERENCE, Bundle, RegionEntry, load_bundle
 from vc.deploy.decode import UPRIGHT_PRIOR, DecodeConfig, DecodedPerson, UprightPrior, decode
 from vc.deploy.engines import DEFAULT_ENGINE, checked_engine, graph_session
 from vc.deploy.exposure import BROUGHT_BACK_AGREEMENT, KEPT_CORRECTION_STOPS, correction_stops, exposed
+from vc.deploy.facing import FacingReader, ordered_by_facing
 from vc.deploy.fitness import COVERED, DARK, MOVED, OVEREXPOSED, STATES, UNFIT_STATES, FrameFitness
 from vc.deploy.native import checked_decoder
 from vc.deploy.registration import Registration, view_back
@@ -95,7 +96,8 @@ class Person:
     keypoints: np.ndarray  # (17, 3) x, y, confidence
     mask: np.ndarray  # (h, w) bool
     mask_origin: tuple[int, int]  # frame pixel (x, y) of mask[0, 0]
-    pair_handedness: np.ndarray | None = None  # (8,) the network's per pair (vc.deploy.decode.DecodedPerson)
+    pair_handedness: np.ndarray | None = None  # (8,) the network's per pair (vc.deploy.decode.DecodedPerson), or the
+    #                                             facing model's where the bundle has one (vc.deploy.facing)
     track: int | None = None  # set by a vc.deploy.tracking.Tracker
     facing: str = "appearance"  # what ordered the left/right pairs: "appearance" (the network) or "motion" (the
     #                             tracker, which also turned the face the way the person walks)
@@ -103,6 +105,9 @@ class Person:
     weak: bool = False  # below the bundle's centre threshold: decoded only for a tracker to continue a track with
     across_seam: bool = False  # feet in a neighbour's owned area, kept within SEAM_FOOT_TOLERANCE (module docstring)
     unfit: str | None = None  # the frame's fitness state when it is unfit and its people are kept (unfit="flag")
+    # the networks' handedness averaged over the pairs, kept when the facing model ordered them: the confidence a
+    # tracker weighs against an unclear walk (vc.deploy.tracking; docs/decisions/0027-facing-from-the-crop.md)
+    network_handedness: float | None = None
 
     def frame_mask(self, frame_size: tuple[int, int]) -> np.ndarray:
         """The mask as an (H, W) bool array over a frame of ``frame_size`` (width, height)."""
@@ -128,9 +133,16 @@ class Person:
 
     @property
     def handedness(self) -> float:
-        """The network's handedness averaged over the pairs: > 0 seen from behind, < 0 from the front; its size
-        is the network's confidence (0 without handedness maps)."""
+        """The handedness that orders the pairs, averaged over them: > 0 seen from behind, < 0 from the front; its
+        size is the confidence of what read it, the facing model or the network (0 without handedness maps)."""
         return 0.0 if self.pair_handedness is None else float(np.mean(self.pair_handedness))
+
+    @property
+    def trusted_handedness(self) -> float:
+        """The confidence a tracker weighs against an unclear walk: the networks' handedness, as before the facing
+        model (which reads the person right for two in three on PETS09 and three in four on TUD-Stadtmitte whatever
+        it says of itself), docs/decisions/0027-facing-from-the-crop.md."""
+        return self.handedness if self.network_handedness is None else self.network_handedness
 
 
 def just_across_seam(feet: np.ndarray, heights: np.ndarray, area: ImageArea,
@@ -156,8 +168,10 @@ class RegionRunner:
 
     def __init__(self, entry: RegionEntry, frame_size: tuple[int, int], threads: int,
                  weak_people_above: float | None = None, neighbour_areas: tuple[dict, ...] = (),
-                 engine: str = DEFAULT_ENGINE, decoder: str | None = None) -> None:
+                 engine: str = DEFAULT_ENGINE, decoder: str | None = None, facing: bytes | None = None) -> None:
         self.entry = entry
+        # the bundle's facing model, a session per region: the regions run in threads of their own
+        self.facing = None if facing is None else FacingReader(facing, threads)
         self.decode = native.decode if checked_decoder(decoder) == "c" else decode
         self.owned_area = ImageArea(entry.owned_image_area)
         self.neighbour_areas = tuple(ImageArea(area) for area in neighbour_areas)  # the other regions' owned areas
@@ -185,8 +199,21 @@ class RegionRunner:
         start = time.perf_counter()
         heatmaps = self.heatmaps(frame)
         decoding = time.perf_counter()
-        people = self.people_in(heatmaps)
+        people = self.faced(frame, self.people_in(heatmaps))
         self.last_seconds = (decoding - start, time.perf_counter() - decoding)
+        return people
+
+    def faced(self, frame: np.ndarray, people: list[Person]) -> list[Person]:
+        """``people`` with their left and right ordered by the bundle's facing model where it has one
+        (:mod:`vc.deploy.facing`); weak people, for a tracker's eyes only, keep the networks' order."""
+        read = [person for person in people if not person.weak and person.pair_handedness is not None]
+        if self.facing is None or not read:
+            return people
+        logits = self.facing.front_logits(frame, np.array([person.box for person in read]))
+        for person, logit in zip(read, logits, strict=True):
+            person.network_handedness = person.handedness
+            person.keypoints, person.pair_handedness = ordered_by_facing(person.keypoints, person.pair_handedness,
+                                                                         float(logit))
         return people
 
     def people_in(self, heatmaps: np.ndarray, config: DecodeConfig | None = None,
@@ -318,7 +345,8 @@ class Runtime:
         per_region = 1 if parallel_regions else (threads or cores)
         areas = [entry.owned_image_area for entry in self.bundle.regions]
         self.runners = [RegionRunner(entry, self.bundle.frame_size, per_region, weak_people_above,
-                                     tuple(areas[:index] + areas[index + 1:]), engine, self.decoder)
+                                     tuple(areas[:index] + areas[index + 1:]), engine, self.decoder,
+                                     self.bundle.facing)
                         for index, entry in enumerate(self.bundle.regions)]
         self.pool = ThreadPoolExecutor(max_workers=threads or cores) if parallel_regions else None
 

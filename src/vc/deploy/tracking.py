@@ -42,11 +42,12 @@ the time unseen: precision pays little, as the score ranks it below what is seen
    (in person heights per second) and its standard error (the fit's residuals, floored at
    ``foot_jitter_heights``).
 3. Facing: the motion's sign where the speed is at least ``min_significance`` standard errors from zero. Where
-   it is less clear, still the motion's sign unless the network is confident (``|handedness| >= trust_network``):
-   a network hedging near zero (people too small for it to see which way they face; PETS09) is no better than a
-   weak motion, while one that learned facing (TUD-Stadtmitte's larger people) is right more often than an
-   unclear motion. A track of fewer than ``min_observations`` in the window, or no motion at all, leaves the
-   network's order.
+   it is less clear, still the motion's sign unless the network is confident (``|trusted_handedness| >=
+   trust_network``): a network hedging near zero (people too small for it to see which way they face; PETS09) is
+   no better than a weak motion, while one that learned facing (TUD-Stadtmitte's larger people) is right more often
+   than an unclear motion. The confidence weighed is the networks' even where a bundle's facing model ordered the
+   pairs: the model is as sure of the people it reads wrong (docs/decisions/0027-facing-from-the-crop.md). A track
+   of fewer than ``min_observations`` in the window, or no motion at all, leaves the order appearance gave.
 4. A person whose facing came from motion gets each left/right pair put in the image order that facing implies,
    and their face turned the way they walk: the nose and the eyes are put ahead of the ears' midpoint, toward the
    side the feet move to, by the body model's distances (:data:`FACE_AHEAD_OF_EARS`) times the share of the walk
@@ -304,7 +305,7 @@ class Tracker:
         feet, height = foot_points(boxes), float((boxes[:, 3] - boxes[:, 1]).sum() / len(boxes))
         speed, error = foot_speed(times, feet[:, 1], height, config.foot_jitter_heights)
         clear = abs(speed) >= config.min_significance * error
-        if speed == 0.0 or not (clear or abs(person.handedness) < config.trust_network):
+        if speed == 0.0 or not (clear or abs(person.trusted_handedness) < config.trust_network):
             return person
         across, _ = foot_speed(times, feet[:, 0], height, config.foot_jitter_heights)
         keypoints = face_ahead(facing_pairs(person, seen_from_behind=speed < 0), float(person.box[3] - person.box[1]),

@@ -32,8 +32,20 @@ import torch.nn.functional as F
 from torch import Tensor, nn
 
 from vc.calibration.camera import camera_from_dict
-from vc.deploy.bundle import BUNDLE_FORMAT, BUNDLE_FORMAT_VERSION, MANIFEST, MODELS, REFERENCE, REFERENCE_MEMBER, sha256
+from vc.deploy.bundle import (
+    BUNDLE_FORMAT,
+    BUNDLE_FORMAT_VERSION,
+    FACING,
+    FACING_MEMBER,
+    MANIFEST,
+    MODELS,
+    REFERENCE,
+    REFERENCE_MEMBER,
+    sha256,
+)
 from vc.deploy.decoder_file import DECODER_FILE, decoder_file
+from vc.deploy.facing import CROP_SIZE, FRAME_INPUT, ROIS_INPUT
+from vc.deploy.facing import OUTPUT_NAME as FACING_OUTPUT
 from vc.deploy.fitness import FitRange, SceneReference
 from vc.deploy.heatmaps import channel_names
 from vc.deploy.signing import SIGNATURE, sign_manifest
@@ -42,6 +54,7 @@ from vc.io import atomic_directory, atomic_path, read_image
 from vc.keypoints import COCO_KEYPOINTS, COCO_SKELETON_1BASED
 from vc.model.camera_range import fit_range_of
 from vc.model.codec import expected_height_map
+from vc.model.facing import CROPS, FACING_MODEL, FACING_OPSET, FACING_REPORT, FacingNet, crop_graph
 from vc.model.network import ScenePoseNet
 from vc.model.operators import graph_operators, outside_conservative_set
 from vc.model.precision import choose_precision
@@ -85,6 +98,25 @@ def export_onnx(net: ScenePoseNet, crop_size: tuple[int, int], input_size: tuple
     for key, value in metadata.items():
         entry = model.metadata_props.add()
         entry.key, entry.value = key, value if isinstance(value, str) else json.dumps(value)
+    onnx.checker.check_model(model)
+    return model.SerializeToString()
+
+
+def export_facing(net: FacingNet) -> bytes:
+    """The facing model as a bundle ships it (:mod:`vc.model.facing` step 4): :func:`crop_graph` feeding ``net``,
+    the frame (1, H, W, 3) uint8 and the crops' rectangles (N, 4) in, a front logit per person (N,) out."""
+    net.eval()
+    buffer = io.BytesIO()
+    example = torch.zeros(1, 3, CROP_SIZE[1], CROP_SIZE[0])
+    with torch.no_grad(), warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)  # the classic exporter announces its own retirement
+        torch.onnx.export(net, (example,), buffer, input_names=[CROPS], output_names=[FACING_OUTPUT],
+                          dynamic_axes={CROPS: {0: "people"}, FACING_OUTPUT: {0: "people"}}, opset_version=FACING_OPSET,
+                          dynamo=False, do_constant_folding=True)
+    classifier = onnx.load_from_string(buffer.getvalue())
+    crops = crop_graph()
+    crops.ir_version = classifier.ir_version  # merged graphs share one IR version: the exporter's
+    model = onnx.compose.merge_models(crops, classifier, io_map=[(CROPS, CROPS)])
     onnx.checker.check_model(model)
     return model.SerializeToString()
 
@@ -239,6 +271,8 @@ def bundle_files(run: Path, precision: str = "fp32", eval_samples: int = 200, ca
     }
     files[DECODER_FILE] = decoder_file(manifest, files)
     manifest = {**manifest, "decoder_file": DECODER_FILE, "decoder_file_sha256": sha256(files[DECODER_FILE])}
+    if (run / FACING_MODEL).is_file():  # trained by vc-train (vc.model.facing)
+        manifest, files = with_facing(manifest, files, run)
     if scene is not None:
         reference, background = scene_reference(scene), read_image(scene.image_path)
         frames = video_frames(scene) if scene.video_path is not None else []
@@ -249,6 +283,17 @@ def bundle_files(run: Path, precision: str = "fp32", eval_samples: int = 200, ca
                                          fit_range)
         manifest = with_zones(manifest, scene)
     return manifest, files
+
+
+def with_facing(manifest: dict, files: dict[str, bytes], run: Path) -> tuple[dict, dict[str, bytes]]:
+    """The bundle with the run's facing model (:mod:`vc.model.facing`), fp32: a few hundred kilobytes that run once
+    per person, where int8 would save little and cost its calibration."""
+    model = (run / FACING_MODEL).read_bytes()
+    report = json.loads((run / FACING_REPORT).read_text()) if (run / FACING_REPORT).is_file() else {}
+    entry = {"model": FACING_MEMBER, "model_sha256": sha256(model), "crop_size": list(CROP_SIZE),
+             "inputs": [FRAME_INPUT, ROIS_INPUT], "output": FACING_OUTPUT,
+             "held_out_accuracy": report.get("held_out_accuracy")}
+    return {**manifest, FACING: entry}, {**files, FACING_MEMBER: model}
 
 
 def with_zones(manifest: dict, scene: Scene) -> dict:

@@ -82,6 +82,9 @@ class TrainSettings(_Section):
     camera_range: CameraRange | None = Field(CameraRange(), description="what every window varies over besides the "
                                              "scene's one look: exposure, white balance, night IR, gain noise, "
                                              "blur, compression (vc.model.camera_range; null: nothing)")
+    facing: bool = Field(True, description="also train the facing model, which reads from each person's crop "
+                                           "whether they are seen from the front or from behind "
+                                           "(vc.model.facing; a dataset with too few people skips it)")
     centre_offset_weight: float = Field(LossWeights.centre_offsets, gt=0.0,
                                         description="the centre offsets' share of the loss (with centre_offsets): "
                                                     "lower leaves more of the network to the keypoint maps")

@@ -11,8 +11,10 @@ import torch
 
 from vc.errors import InputError
 from vc.evaluation.plots import plot_precision_recall
-from vc.io import write_json
+from vc.io import atomic_path, write_json
 from vc.model.camera_range import plan_lines
+from vc.model.export import export_facing
+from vc.model.facing import FACING_MODEL, FACING_REPORT, MIN_FACING_CROPS, dataset_crops, train_facing
 from vc.model.trainer import RegionResult, TrainConfig, data_workers, select_device
 from vc.render.dataset import read_manifest
 from vc.stages.config import TrainSettings
@@ -43,7 +45,10 @@ class TrainingJob:
         by_index = dict(executor.map_unordered(train_region, tasks))
         results = [by_index[index] for index in range(len(tasks))]
         manifest = read_manifest(self.dataset)
-        write_json(run / METRICS, _merged_metrics(run, manifest, self.dataset, self.device.type, results))
+        metrics = _merged_metrics(run, manifest, self.dataset, self.device.type, results)
+        if self.settings.facing:
+            metrics["facing"] = train_facing_model(self.dataset, run, self.config.seed, show_progress and here)
+        write_json(run / METRICS, metrics)
         plot_precision_recall({r.region: r.evaluation.evaluation for r in results}, run / "precision_recall.png",
                               f"{manifest['scene']}: held-out synthetic")
         return results
@@ -67,6 +72,23 @@ def train(dataset: Path, run: Path, settings: TrainSettings, region_names: list[
           show_progress: bool = True) -> list[RegionResult]:
     """The whole stage: :func:`prepare_training` then :meth:`TrainingJob.run`."""
     return prepare_training(dataset, settings, region_names).run(run, show_progress)
+
+
+def train_facing_model(dataset: Path, run: Path, seed: int, show_progress: bool = True) -> dict:
+    """Train the facing model on ``dataset``'s renders into ``RUN/facing.onnx`` (:mod:`vc.model.facing`), or keep
+    the one an earlier invocation trained there; what it measured (``RUN/facing.json``), or why there is none."""
+    model, report = run / FACING_MODEL, run / FACING_REPORT
+    if model.is_file() and report.is_file():
+        return json.loads(report.read_text())
+    train, held_out = dataset_crops(dataset)
+    if len(train) < MIN_FACING_CROPS:
+        return {"skipped": f"{len(train)} rendered people face the camera or away from it; the facing model needs "
+                           f"{MIN_FACING_CROPS} or more (render more samples)"}
+    result = train_facing(train, held_out, seed, show_progress=show_progress)
+    with atomic_path(model) as temporary:
+        temporary.write_bytes(export_facing(result.net))
+    write_json(report, result.to_dict())
+    return result.to_dict()
 
 
 def read_metrics(run: Path) -> dict:

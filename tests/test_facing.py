@@ -1,0 +1,188 @@
+"""The facing model: which way a person faces, read from their crop (vc.model.facing, vc.deploy.facing)."""
+
+from __future__ import annotations
+
+import json
+import shutil
+
+import numpy as np
+import onnxruntime as ort
+import pytest
+import torch
+
+from vc.deploy.bundle import FACING, MANIFEST, load_bundle
+from vc.deploy.facing import CROP_MARGIN, CROP_SIZE, FRAME_INPUT, ROIS_INPUT, FacingReader, crop_rois, ordered_by_facing
+from vc.deploy.heatmaps import PAIRS
+from vc.deploy.runtime import Runtime
+from vc.errors import InputError
+from vc.model.export import export_facing, with_facing
+from vc.model.facing import (
+    FACING_MODEL,
+    FACING_REPORT,
+    FacingCrops,
+    FacingNet,
+    crop_graph,
+    seen_from_front,
+    train_facing,
+)
+from vc.stages.train import train_facing_model
+
+
+def _crops(count: int, seed: int) -> FacingCrops:
+    """People whose front shows a light face at the top of the crop and whose back shows dark hair there, in clothes
+    of any colour: a pattern a classifier learns in a few steps."""
+    rng = np.random.default_rng(seed)
+    crops = rng.integers(0, 60, (count, CROP_SIZE[1], CROP_SIZE[0], 3)).astype(np.uint8)
+    crops[:, 14:, 8:24] = rng.integers(30, 220, (count, 1, 1, 3))
+    front = rng.random(count) < 0.5
+    crops[front, 3:12, 11:21] = (225, 185, 150)
+    crops[~front, 3:12, 11:21] = (25, 20, 15)
+    return FacingCrops(crops, front)
+
+
+@pytest.fixture(scope="module")
+def trained():
+    torch.set_num_threads(1)
+    return train_facing(_crops(1024, 0), _crops(128, 1), seed=3, epochs=4, show_progress=False)
+
+
+def test_the_crop_is_the_box_a_little_taller_and_twice_as_tall_as_wide():
+    rois = crop_rois(np.array([[10.0, 20.0, 30.0, 119.0]]))[0]
+    height, width = rois[3] - rois[1], rois[2] - rois[0]
+    assert height == pytest.approx(99.0 * CROP_MARGIN)
+    assert height / width == pytest.approx(CROP_SIZE[1] / CROP_SIZE[0])
+    assert (rois[0] + rois[2]) / 2 == pytest.approx(20.5)  # the box's centre, in pixel edges
+    assert (rois[1] + rois[3]) / 2 == pytest.approx(70.0)
+
+
+def test_the_crop_graph_cuts_each_person_out_of_the_frame_as_it_is():
+    frame = np.zeros((120, 160, 3), np.uint8)
+    frame[20:100, 40:80] = (200, 0, 0)  # left half of the crop red, right half blue
+    frame[20:100, 80:120] = (0, 0, 200)
+    session = ort.InferenceSession(crop_graph().SerializeToString(), providers=["CPUExecutionProvider"])
+    rois = np.array([[40.0, 20.0, 120.0, 180.0], [0.0, 0.0, 16.0, 32.0]], np.float32)
+    crops = session.run(None, {FRAME_INPUT: frame[None], ROIS_INPUT: rois})[0]
+    assert crops.shape == (2, 3, CROP_SIZE[1], CROP_SIZE[0])
+    left, right = crops[0, :, 2:28, 2:14], crops[0, :, 2:28, 18:30]  # rows of 2.5 px: the people end at row 32
+    assert left[0].mean() == pytest.approx(200 / 255, abs=0.02) and left[2].max() < 0.02
+    assert right[2].mean() == pytest.approx(200 / 255, abs=0.02) and right[0].max() < 0.02
+    assert crops[1].max() == 0.0  # black where nobody stands
+
+
+@pytest.mark.parametrize(("image_left", "offset", "expected"), [
+    ([False] * 8, 10.0, True),  # left shoulder and hip on the image's right: the front
+    ([True] * 8, -10.0, False),
+    ([True, False] * 4, 10.0, None),  # shoulders and hips disagree: turning, no front to learn
+    ([False] * 8, 1.0, None),  # in profile
+])
+def test_a_rendered_person_is_labelled_front_behind_or_profile(image_left, offset, expected):
+    keypoints = np.zeros((17, 3))
+    for left, right in PAIRS:
+        keypoints[left, 0], keypoints[right, 0] = offset / 4, -offset / 4
+    annotation = {"left_is_image_left": image_left, "keypoints": keypoints.ravel().tolist(),
+                  "amodal_bbox": [0.0, 0.0, 20.0, 60.0]}
+    assert seen_from_front(annotation) is expected
+
+
+def test_the_classifier_learns_which_way_people_face_and_the_same_seed_gives_the_same_weights(trained):
+    assert trained.held_out_accuracy >= 0.95
+    again = train_facing(_crops(1024, 0), _crops(128, 1), seed=3, epochs=4, show_progress=False)
+    for mine, theirs in zip(trained.net.state_dict().values(), again.net.state_dict().values(), strict=True):
+        assert torch.equal(mine, theirs)
+
+
+def test_the_exported_model_reads_the_frame_as_the_network_reads_its_crops(trained):
+    crops = _crops(4, 7)
+    frame = np.zeros((100, 200, 3), np.uint8)
+    boxes = []
+    for index, crop in enumerate(crops.crops):  # each person pasted at the crop's own size
+        x = 10 + index * 45
+        frame[10:10 + CROP_SIZE[1], x:x + CROP_SIZE[0]] = crop
+        height = CROP_SIZE[1] / CROP_MARGIN
+        top = 10 + (CROP_SIZE[1] - height) / 2 - 0.5
+        boxes.append([x - 0.5 + 0.0, top, x + CROP_SIZE[0] - 0.5, top + height])
+    reader = FacingReader(export_facing(trained.net))
+    logits = reader.front_logits(frame, np.array(boxes))
+    with torch.no_grad():
+        expected = trained.net(torch.from_numpy(crops.crops).permute(0, 3, 1, 2).float() / 255.0).numpy()
+    np.testing.assert_allclose(logits, expected, rtol=0.1, atol=0.05)  # 2 x 2 samples a pixel blur a little
+    assert ((logits > 0) == crops.front).all()
+    assert reader.front_logits(frame, np.zeros((0, 4))).shape == (0,)
+
+
+def test_a_facing_reorders_the_pairs_and_becomes_the_handedness():
+    keypoints = np.arange(17 * 3, dtype=np.float64).reshape(17, 3)
+    # the networks ordered every pair as seen from behind (> 0): the image-left member is the left one
+    behind = np.full(len(PAIRS), 0.2)
+    same, handedness = ordered_by_facing(keypoints, behind, front_logit=-3.0)
+    np.testing.assert_array_equal(same, keypoints)
+    assert (handedness > 0.9).all()
+    turned, handedness = ordered_by_facing(keypoints, behind, front_logit=3.0)
+    for left, right in PAIRS:
+        np.testing.assert_array_equal(turned[left], keypoints[right])
+    assert (handedness < -0.9).all()
+    np.testing.assert_array_equal(turned[0], keypoints[0])  # the nose has no pair
+
+
+def _with_facing(bundle, trained, tmp_path):
+    run = tmp_path / "run"
+    run.mkdir()
+    (run / FACING_MODEL).write_bytes(export_facing(trained.net))
+    (run / FACING_REPORT).write_text(json.dumps(trained.to_dict()))
+    manifest = json.loads((bundle / MANIFEST).read_text())
+    files = {str(path.relative_to(bundle)): path.read_bytes() for path in bundle.rglob("*")
+             if path.is_file() and path.name != MANIFEST}
+    manifest, files = with_facing(manifest, files, run)
+    faced = tmp_path / "faced"
+    faced.mkdir()
+    for name, data in {**files, MANIFEST: json.dumps(manifest).encode()}.items():
+        (faced / name).parent.mkdir(parents=True, exist_ok=True)
+        (faced / name).write_bytes(data)
+    return faced
+
+
+def test_a_bundle_carries_its_facing_model_checked_and_the_runtime_orders_people_by_it(bundle, trained, tmp_path):
+    faced = _with_facing(bundle, trained, tmp_path)
+    loaded = load_bundle(faced)
+    assert loaded.facing is not None and load_bundle(bundle).facing is None
+    frame = np.full((64, 128, 3), 120, np.uint8)
+    frame[10:60, 20:40] = 40
+    frame[12:22, 26:34] = (225, 185, 150)
+    with Runtime(faced, threads=1) as runtime, Runtime(bundle, threads=1) as plain:
+        people, before = runtime(frame), plain(frame)
+    assert [person.box.tolist() for person in people] == [person.box.tolist() for person in before]
+    for person in people:  # every pair ordered by one facing, of the model's confidence
+        assert np.ptp(person.pair_handedness) == 0.0
+    # what a tracker weighs against an unclear walk stays the networks' confidence
+    assert [person.trusted_handedness for person in people] == [person.handedness for person in before]
+    # a model that does not match its checksum is refused by name
+    (faced / "models" / "facing.onnx").write_bytes(b"not the model")
+    with pytest.raises(InputError, match=f"{FACING}.model_sha256"):
+        load_bundle(faced)
+
+
+def test_a_run_with_too_few_people_to_learn_from_trains_no_facing_model_and_says_why(tmp_path):
+    from dataset_factory import write_dataset
+
+    data = write_dataset(tmp_path / "dataset")
+    report = train_facing_model(data, tmp_path / "run", seed=0, show_progress=False)
+    assert "needs" in report["skipped"]
+    assert not (tmp_path / "run" / FACING_MODEL).exists()
+
+
+def test_the_classifier_is_small():
+    assert sum(parameter.numel() for parameter in FacingNet().parameters()) < 40_000
+
+
+def test_an_exported_bundle_ships_the_runs_facing_model(trained_run, trained, tmp_path):
+    from vc.cli.export import main as vc_export
+
+    run = tmp_path / "run"
+    shutil.copytree(trained_run, run)
+    shutil.copytree(trained_run.parent / "dataset", tmp_path / "dataset")  # the run names its dataset beside it
+    (run / FACING_MODEL).write_bytes(export_facing(trained.net))
+    (run / FACING_REPORT).write_text(json.dumps(trained.to_dict()))
+    assert vc_export([str(run), "-o", str(tmp_path / "bundle"), "--quiet"]) == 0
+    manifest = json.loads((tmp_path / "bundle" / MANIFEST).read_text())
+    assert manifest[FACING]["held_out_accuracy"] == trained.to_dict()["held_out_accuracy"]
+    assert load_bundle(tmp_path / "bundle").facing == (run / FACING_MODEL).read_bytes()
