@@ -186,3 +186,11 @@ def test_an_exported_bundle_ships_the_runs_facing_model(trained_run, trained, tm
     manifest = json.loads((tmp_path / "bundle" / MANIFEST).read_text())
     assert manifest[FACING]["held_out_accuracy"] == trained.to_dict()["held_out_accuracy"]
     assert load_bundle(tmp_path / "bundle").facing == (run / FACING_MODEL).read_bytes()
+
+
+def test_boxes_of_no_size_or_beyond_the_frame_read_a_finite_facing(trained):
+    reader = FacingReader(export_facing(trained.net))
+    frame = np.zeros((100, 120, 3), np.uint8)
+    boxes = np.array([[10.0, 10.0, 10.0, 10.0], [10.0, 10.0, 20.0, 10.0], [-50.0, -50.0, -10.0, -10.0],
+                      [110.0, 90.0, 130.0, 140.0], [0.0, 0.0, 119.0, 99.0]])
+    assert np.isfinite(reader.front_logits(frame, boxes)).all()
