@@ -194,3 +194,25 @@ def test_boxes_of_no_size_or_beyond_the_frame_read_a_finite_facing(trained):
     boxes = np.array([[10.0, 10.0, 10.0, 10.0], [10.0, 10.0, 20.0, 10.0], [-50.0, -50.0, -10.0, -10.0],
                       [110.0, 90.0, 130.0, 140.0], [0.0, 0.0, 119.0, 99.0]])
     assert np.isfinite(reader.front_logits(frame, boxes)).all()
+
+
+def test_a_run_keeps_its_facing_model_only_for_the_renders_and_seed_it_was_trained_on(tmp_path, monkeypatch):
+    from dataset_factory import write_dataset
+
+    import vc.stages.train as stage
+
+    data = write_dataset(tmp_path / "dataset")
+    trained_calls = []
+
+    def fake_train(train, held_out, seed, show_progress=True):
+        trained_calls.append(seed)
+        return train_facing(_crops(1024, seed), _crops(128, 1), seed=seed, epochs=1, show_progress=False)
+
+    monkeypatch.setattr(stage, "MIN_FACING_CROPS", 0)
+    monkeypatch.setattr(stage, "train_facing", fake_train)
+    run = tmp_path / "run"
+    first = stage.train_facing_model(data, run, seed=0, show_progress=False)
+    assert stage.train_facing_model(data, run, seed=0, show_progress=False) == first  # resumed: kept
+    stage.train_facing_model(data, run, seed=1, show_progress=False)  # another seed: trained again
+    assert trained_calls == [0, 1]
+    assert json.loads((run / FACING_REPORT).read_text())["trained_on"]["seed"] == 1

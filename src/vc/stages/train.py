@@ -76,10 +76,15 @@ def train(dataset: Path, run: Path, settings: TrainSettings, region_names: list[
 
 def train_facing_model(dataset: Path, run: Path, seed: int, show_progress: bool = True) -> dict:
     """Train the facing model on ``dataset``'s renders into ``RUN/facing.onnx`` (:mod:`vc.model.facing`), or keep
-    the one an earlier invocation trained there; what it measured (``RUN/facing.json``), or why there is none."""
+    the one an earlier invocation trained there on the same renders with the same seed; what it measured
+    (``RUN/facing.json``), or why there is none."""
     model, report = run / FACING_MODEL, run / FACING_REPORT
+    manifest = read_manifest(dataset)
+    trained_on = {"scene_hash": manifest["scene_hash"], "dataset_settings": manifest.get("settings"), "seed": seed}
     if model.is_file() and report.is_file():
-        return json.loads(report.read_text())
+        earlier = json.loads(report.read_text())
+        if earlier.get("trained_on") == trained_on:
+            return earlier
     train, held_out = dataset_crops(dataset)
     if len(train) < MIN_FACING_CROPS:
         return {"skipped": f"{len(train)} rendered people face the camera or away from it; the facing model needs "
@@ -87,8 +92,9 @@ def train_facing_model(dataset: Path, run: Path, seed: int, show_progress: bool 
     result = train_facing(train, held_out, seed, show_progress=show_progress)
     with atomic_path(model) as temporary:
         temporary.write_bytes(export_facing(result.net))
-    write_json(report, result.to_dict())
-    return result.to_dict()
+    measured = {**result.to_dict(), "trained_on": trained_on}
+    write_json(report, measured)
+    return measured
 
 
 def read_metrics(run: Path) -> dict:
