@@ -34,17 +34,22 @@ def checked_engine(engine: str) -> str:
     return engine
 
 
-def onnxruntime_session(model: bytes, threads: int) -> GraphSession:
+def onnxruntime_inference(model: bytes, threads: int):
+    """An onnxruntime CPU session of ``model`` as the runtime runs every graph: ``threads`` intra-op threads that do
+    not spin-wait after a run (regions run one after another: a session spinning after its run would take the cores
+    from the next region's session)."""
     import onnxruntime as ort
 
     options = ort.SessionOptions()
     options.intra_op_num_threads = threads
     options.inter_op_num_threads = 1
     options.execution_mode = ort.ExecutionMode.ORT_SEQUENTIAL
-    # Regions run one after another: a session whose threads spin-wait after its run would take the cores from the
-    # next region's session.
     options.add_session_config_entry("session.intra_op.allow_spinning", "0")
-    session = ort.InferenceSession(model, options, providers=["CPUExecutionProvider"])
+    return ort.InferenceSession(model, options, providers=["CPUExecutionProvider"])
+
+
+def onnxruntime_session(model: bytes, threads: int) -> GraphSession:
+    session = onnxruntime_inference(model, threads)
     input_name = session.get_inputs()[0].name
     return lambda crop: session.run(None, {input_name: crop})[0]
 

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from vc.deploy.engines import onnxruntime_inference
 from vc.deploy.heatmaps import swap_pairs
 
 #: The crop the facing model reads, width x height (pixels).
@@ -47,13 +48,7 @@ class FacingReader:
     runner: the regions run in threads of their own."""
 
     def __init__(self, model: bytes, threads: int = 1) -> None:
-        import onnxruntime as ort
-
-        options = ort.SessionOptions()
-        options.intra_op_num_threads = threads
-        options.inter_op_num_threads = 1
-        options.add_session_config_entry("session.intra_op.allow_spinning", "0")
-        self.session = ort.InferenceSession(model, options, providers=["CPUExecutionProvider"])
+        self.session = onnxruntime_inference(model, threads)
 
     def front_logits(self, frame: np.ndarray, boxes: np.ndarray) -> np.ndarray:
         """(N,) logits, > 0 seen from the front, of the people in ``boxes`` (N, 4) of an (H, W, 3) uint8 ``frame``."""

@@ -4,7 +4,7 @@ crop whether they are seen from the front or from behind (:mod:`vc.deploy.facing
 Why a model of its own: which way a person faces decides all eight left/right pairs at once, and the region networks'
 handedness maps, one output among 27 of a network sized for finding people, stay near chance on PETS09's 48 px
 people even on their own renders. A classifier that sees only the person and answers only that learns it on the
-same renders (held-out accuracy 0.94-0.95 on PETS09's and TUD-Stadtmitte's), and on real frames it is right for
+same renders (held-out accuracy 0.94-0.96 on PETS09's and TUD-Stadtmitte's), and on real frames it is right for
 about two people in three (PETS09) to four in five (TUD-Stadtmitte) where the networks' reading is at chance
 (docs/decisions/0027-facing-from-the-crop.md).
 
@@ -38,8 +38,9 @@ from tqdm import tqdm
 
 from vc.deploy.facing import CROP_SIZE, FRAME_INPUT, ROIS_INPUT, crop_rois
 from vc.deploy.heatmaps import PAIRS
+from vc.io import read_image
 from vc.keypoints import COCO_KEYPOINTS
-from vc.render.dataset import Sample, open_region, read_manifest, read_sample
+from vc.render.dataset import Sample, open_region, read_manifest
 
 #: A person is cropped when their visible box is at least this share of their whole body's height ...
 MIN_VISIBLE_SHARE = 0.8
@@ -166,7 +167,7 @@ def crops_of(samples: list[Sample]) -> FacingCrops:
                 facing.append(seen)
         if not boxes:
             continue
-        image = read_sample(sample)[0]
+        image = read_image(sample.image_path)  # the render alone: its instance map is not needed
         cut = session.run(None, {FRAME_INPUT: image[None], ROIS_INPUT: crop_rois(np.array(boxes))})[0]
         crops.append(np.clip(np.rint(cut.transpose(0, 2, 3, 1) * 255.0), 0, 255).astype(np.uint8))
         front += facing
