@@ -28,16 +28,16 @@ EYES = [COCO_KEYPOINTS.index("left_eye"), COCO_KEYPOINTS.index("right_eye")]
 EARS = [COCO_KEYPOINTS.index("left_ear"), COCO_KEYPOINTS.index("right_ear")]
 
 
-def _person(x: float, feet_y: float, handedness: float) -> Person:
-    """A person whose network read them as seen from the front (``handedness`` < 0: the image-left member of each
-    pair decoded as the right one) or from behind (> 0), with the decoded pairs accordingly: left members at x + 10
-    for a front view, at x - 10 for a back view."""
+def _person(x: float, feet_y: float, handedness: float, height: float = HEIGHT) -> Person:
+    """A person ``height`` px tall whose network read them as seen from the front (``handedness`` < 0: the
+    image-left member of each pair decoded as the right one) or from behind (> 0), with the decoded pairs
+    accordingly: left members at x + 10 for a front view, at x - 10 for a back view."""
     keypoints = np.zeros((17, 3))
     keypoints[:, 0], keypoints[:, 1], keypoints[:, 2] = x, feet_y - HEIGHT / 2, 0.9
     side = -10.0 if handedness >= 0 else 10.0
     for left, right in PAIRS:
         keypoints[left, 0], keypoints[right, 0] = x + side, x - side
-    return Person("r", 0.9, np.array([x - 20, feet_y - HEIGHT, x + 20, feet_y]), keypoints, np.zeros((0, 0), bool),
+    return Person("r", 0.9, np.array([x - 20, feet_y - height, x + 20, feet_y]), keypoints, np.zeros((0, 0), bool),
                   (0, 0), np.full(len(PAIRS), handedness))
 
 
@@ -90,6 +90,18 @@ def test_a_confident_network_keeps_its_facing_unless_the_motion_is_clear():
     walking = _walk(Tracker(config), -60.0, handedness=-(config.trust_network + 0.2))
     assert walking[-1].facing == "motion" and _seen_from_behind(walking[-1])
 
+
+@pytest.mark.parametrize("growth_per_s, walk", [(0.25, True), (1.0, False)])
+def test_a_box_growing_faster_than_a_walk_allows_leaves_the_facing_to_appearance(growth_per_s, walk):
+    # The box's top stays and its bottom drops, the box growing by ``growth_per_s`` of its log height a second: a
+    # walk toward a camera at eye level, or, faster than any walk, a person stepping out from behind another.
+    tracker, fps = Tracker(), 10.0
+    people = []
+    for k in range(10):
+        height = HEIGHT * np.exp(growth_per_s * k / fps)
+        people.append(tracker.update([_person(300.0, 200.0 + height, handedness=0.05, height=height)], k / fps)[0])
+    assert all(person.facing == ("motion" if walk else "appearance") for person in people[4:])
+    assert all(_seen_from_behind(person) != walk for person in people[4:])  # coming closer: seen from the front
 
 
 @pytest.mark.parametrize("across_px_per_s, share", [(30.0, 0.4), (-150.0, -1.0), (0.0, 0.0)])

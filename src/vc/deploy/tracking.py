@@ -47,7 +47,12 @@ the time unseen: precision pays little, as the score ranks it below what is seen
    no better than a weak motion, while one that learned facing (TUD-Stadtmitte's larger people) is right more often
    than an unclear motion. The confidence weighed is the networks' even where a bundle's facing model ordered the
    pairs: the model is as sure of the people it reads wrong (docs/decisions/0027-facing-from-the-crop.md). A track
-   of fewer than ``min_observations`` in the window, or no motion at all, leaves the order appearance gave.
+   of fewer than ``min_observations`` in the window, or no motion at all, leaves the order appearance gave; so does
+   a box whose height changes faster than ``max_walk_growth_per_s`` (its log a second, fitted like the speed): that
+   is a person coming out from behind another, or going behind them, whose box bottom moves with what hides their
+   legs. At eye level it looks just like a walk toward or away from the camera (the head stays on the horizon and
+   only the feet move), and there the walk read three in four such people the wrong way round
+   (docs/decisions/0028-a-walk-that-is-not-a-walk.md).
 4. A person whose facing came from motion gets each left/right pair put in the image order that facing implies,
    and their face turned the way they walk: the nose and the eyes are put ahead of the ears' midpoint, toward the
    side the feet move to, by the body model's distances (:data:`FACE_AHEAD_OF_EARS`) times the share of the walk
@@ -105,6 +110,10 @@ class TrackingConfig:
     # a walk across the view this fast is seen in full profile (1.3 m/s, a comfortable walk, for a 1.7 m person)
     profile_speed_heights_per_s: float = 0.75
     trust_network: float = 0.3  # where the motion is not clear, a network this confident keeps its facing
+    # a box growing or shrinking faster than this (its log height a second; a walker 3.5 m away coming at 1.4 m/s)
+    # is a person coming out from behind another or going behind them, not a walk, and the walk does not decide
+    # their facing (docs/decisions/0028-a-walk-that-is-not-a-walk.md); inf: it always may
+    max_walk_growth_per_s: float = 0.4
     coast_s: float = 0.5  # a track unseen up to this long is still reported (0: never)
     coast_min_observations: int = 3  # a track seen this often is a person, not a passing false alarm
     coast_score_decay_s: float = 1.0
@@ -306,6 +315,9 @@ class Tracker:
         speed, error = foot_speed(times, feet[:, 1], height, config.foot_jitter_heights)
         clear = abs(speed) >= config.min_significance * error
         if speed == 0.0 or not (clear or abs(person.trusted_handedness) < config.trust_network):
+            return person
+        growth, _ = foot_speed(times, np.log(boxes[:, 3] - boxes[:, 1]), 1.0, config.foot_jitter_heights)
+        if abs(growth) > config.max_walk_growth_per_s:
             return person
         across, _ = foot_speed(times, feet[:, 0], height, config.foot_jitter_heights)
         keypoints = face_ahead(facing_pairs(person, seen_from_behind=speed < 0), float(person.box[3] - person.box[1]),
