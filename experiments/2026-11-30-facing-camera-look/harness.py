@@ -212,13 +212,26 @@ def read_real(net: nn.Module, real_npzs: list[Path], mirror_average: bool) -> di
     row = {}
     for path in real_npzs:
         real = np.load(path)
-        right = (_logits(net, real["crops"], mirror_average) > 0) == real["front"]
+        logits = _logits(net, real["crops"], mirror_average)
+        right = (logits > 0) == real["front"]
         row[path.stem] = round(float(right.mean()), 4)
+        row[f"{path.stem}_auc"] = round(_auc(real["front"], logits), 4)
+        row[f"{path.stem}_front_right"] = round(float(right[real["front"]].mean()), 4)
+        row[f"{path.stem}_behind_right"] = round(float(right[~real["front"]].mean()), 4)
         for low, high in ((0, 60), (60, 100), (100, 1000)):
             inside = (real["heights"] >= low) & (real["heights"] < high)
             if inside.any():
                 row[f"{path.stem}_{low}-{high}px"] = [round(float(right[inside].mean()), 3), int(inside.sum())]
     return row
+
+
+def _auc(front: np.ndarray, logits: np.ndarray) -> float:
+    """The chance that a person seen from the front gets a higher logit than one seen from behind (ranks; no ties
+    among float logits)."""
+    ranks = np.empty(len(logits))
+    ranks[np.argsort(logits)] = np.arange(1, len(logits) + 1)
+    fronts = int(front.sum())
+    return float((ranks[front].sum() - fronts * (fronts + 1) / 2) / (fronts * (len(front) - fronts)))
 
 
 def evaluate(weights: Path, real_npzs: list[Path]) -> None:

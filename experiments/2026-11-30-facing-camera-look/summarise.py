@@ -27,7 +27,8 @@ def variants(path: Path) -> str:
             continue
         camera = "tud" if row["renders"].startswith("tud") else "pets"
         jitter = "" if row["renders"].endswith("_j0") else ", two jittered boxes a person"
-        lines.append(f"| {row['variant']}{jitter} | {row['renders'][:-3]} | {row['weights']:,} | "
+        wardrobe = ", renders in the winter wardrobe" if row["renders"][:-3].endswith("w0") else ""
+        lines.append(f"| {row['variant']}{jitter}{wardrobe} | {row['renders'][:-3]} | {row['weights']:,} | "
                      f"{row['renders_held_out']:.3f} | {row[f'real_{camera}']:.3f} |")
     for row in rows:
         if "weights" in row and isinstance(row["weights"], str):
