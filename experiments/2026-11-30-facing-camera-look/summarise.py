@@ -27,7 +27,8 @@ def variants(path: Path) -> str:
             continue
         camera = "tud" if row["renders"].startswith("tud") else "pets"
         jitter = "" if row["renders"].endswith("_j0") else ", two jittered boxes a person"
-        wardrobe = ", renders in the winter wardrobe" if row["renders"][:-3].endswith("w0") else ""
+        wardrobe = {"w0": ", renders in the winter wardrobe", "o0": ", renders with open coats (open_coat.patch)"}.get(
+            row["renders"][-5:-3], "")
         lines.append(f"| {row['variant']}{jitter}{wardrobe} | {row['renders'][:-3]} | {row['weights']:,} | "
                      f"{row['renders_held_out']:.3f} | {row[f'real_{camera}']:.3f} |")
     for row in rows:
@@ -47,6 +48,8 @@ def walk_or_look(walks: Path) -> str:
              "walk where z >= 1, else the model | z >= 2 | z >= 4 |", "|---|---|---|---|---|---|---|---|"]
     speed_lines = ["| camera (choosing) | vertical foot speed (heights/s) | people | the walk right | "
                    "the model right |", "|---|---|---|---|---|"]
+    z_lines = ["| camera (choosing) | the walk's significance (z) | people | the walk right | the model right |",
+               "|---|---|---|---|---|"]
     growth_lines = ["| camera, half | people today's rule leaves to the walk | of them, boxes growing or "
                     "shrinking faster than 0.4 log height/s | the walk right | the model right |",
                     "|---|---|---|---|---|"]
@@ -69,12 +72,16 @@ def walk_or_look(walks: Path) -> str:
                          + " | ".join(f"{np.mean(rule == yolo):.3f}" for rule in rules) + " |")
             if half != halves[0]:
                 continue
+            for low, high in ((0, 2), (2, 4), (4, 8), (8, np.inf)):
+                inside = has & (z >= low) & (z < high)
+                z_lines.append(f"| {camera} | {low}-{high} | {inside.sum()} | "
+                               f"{np.mean(walk[inside] == yolo[inside]):.3f} | {np.mean(look[inside] == yolo[inside]):.3f} |")
             for low, high in ((0, 0.05), (0.05, 0.1), (0.1, 0.2), (0.2, 0.4), (0.4, np.inf)):
                 inside = has & (np.abs(speed) >= low) & (np.abs(speed) < high)
                 speed_lines.append(f"| {camera} | {low}-{high} | {inside.sum()} | "
                                    f"{np.mean(walk[inside] == yolo[inside]):.3f} | "
                                    f"{np.mean(look[inside] == yolo[inside]):.3f} |")
-    return "\n\n".join("\n".join(table) for table in (lines, speed_lines, growth_lines))
+    return "\n\n".join("\n".join(table) for table in (lines, speed_lines, z_lines, growth_lines))
 
 
 if __name__ == "__main__":
