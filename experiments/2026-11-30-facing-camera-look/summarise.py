@@ -74,8 +74,8 @@ def walk_or_look(walks: Path) -> str:
                 continue
             for low, high in ((0, 2), (2, 4), (4, 8), (8, np.inf)):
                 inside = has & (z >= low) & (z < high)
-                z_lines.append(f"| {camera} | {low}-{high} | {inside.sum()} | "
-                               f"{np.mean(walk[inside] == yolo[inside]):.3f} | {np.mean(look[inside] == yolo[inside]):.3f} |")
+                walk_right, look_right = np.mean(walk[inside] == yolo[inside]), np.mean(look[inside] == yolo[inside])
+                z_lines.append(f"| {camera} | {low}-{high} | {inside.sum()} | {walk_right:.3f} | {look_right:.3f} |")
             for low, high in ((0, 0.05), (0.05, 0.1), (0.1, 0.2), (0.2, 0.4), (0.4, np.inf)):
                 inside = has & (np.abs(speed) >= low) & (np.abs(speed) < high)
                 speed_lines.append(f"| {camera} | {low}-{high} | {inside.sum()} | "
