@@ -3,6 +3,7 @@ which of each left/right pair is the left one where the network cannot tell."""
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import replace
 
 import numpy as np
@@ -103,6 +104,15 @@ def test_a_box_growing_faster_than_a_walk_allows_leaves_the_facing_to_appearance
     assert all(person.facing == ("motion" if walk else "appearance") for person in people[4:])
     assert all(_seen_from_behind(person) != walk for person in people[4:])  # coming closer: seen from the front
 
+
+
+def test_a_sighting_of_no_height_is_read_without_a_numerical_warning():
+    tracker = Tracker()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        people = [tracker.update([_person(300.0, 300.0 + 6.0 * k, handedness=0.05, height=0.0 if k == 5 else HEIGHT)],
+                                 k / 10.0)[0] for k in range(8)]
+    assert len({person.track for person in people}) == 1
 
 @pytest.mark.parametrize("across_px_per_s, share", [(30.0, 0.4), (-150.0, -1.0), (0.0, 0.0)])
 def test_a_walker_s_face_turns_the_way_they_cross_the_view(across_px_per_s, share):

@@ -316,7 +316,9 @@ class Tracker:
         clear = abs(speed) >= config.min_significance * error
         if speed == 0.0 or not (clear or abs(person.trusted_handedness) < config.trust_network):
             return person
-        growth, _ = foot_speed(times, np.log(boxes[:, 3] - boxes[:, 1]), 1.0, config.foot_jitter_heights)
+        # a box of no height (clipped to the frame's edge) counts as 1 px, as in the association
+        heights = np.maximum(boxes[:, 3] - boxes[:, 1], 1.0)
+        growth, _ = foot_speed(times, np.log(heights), 1.0, config.foot_jitter_heights)
         if abs(growth) > config.max_walk_growth_per_s:
             return person
         across, _ = foot_speed(times, feet[:, 0], height, config.foot_jitter_heights)
