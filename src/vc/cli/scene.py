@@ -5,8 +5,8 @@
     vc-scene background VIDEO -o background.png [--frames N]
     vc-scene synthesize SCENE -o background.png [--spp S] [--seed K]
     vc-scene light SCENE -o compare.png [--json OUT.json]
-    vc-scene init VIDEO|FRAMES|IMAGE -o DIR (--points P.csv | --calibration FILE [--format F] | --mot-world GT.txt)
-             [--focal F]
+    vc-scene init VIDEO|FRAMES|IMAGE -o DIR [--points P.csv | --calibration FILE [--format F] | --mot-world GT.txt]
+             [--focal F] [--frames first:last:step]
     vc-scene calibrate POINTS.csv|H.txt --size W H [--format ground-points|homography] [--focal F] [--units U]
              -o camera.yaml [--json OUT.json]
     vc-scene edit DIR|SCENE [--host H] [--port P]
@@ -26,6 +26,7 @@ import numpy as np
 
 from vc import __version__
 from vc.cli.common import handles_input_errors
+from vc.deploy.frames import FrameRange
 from vc.errors import InputError
 from vc.io import atomic_directory, read_image, write_image, write_json
 from vc.scenes.loader import Scene, load_scene
@@ -231,7 +232,7 @@ def cmd_init(args: argparse.Namespace) -> int:
     with atomic_directory(output) as staging:
         starter = make_starter_scene(args.input, staging, args.points, args.calibration, args.format,
                                      args.mot_world, args.focal, progress=sys.stderr.isatty(),
-                                     name=scene_name(output))
+                                     name=scene_name(output), frames=args.frames)
         scene = load_scene(starter.scene_path)
         regions = plan_regions(scene)
         write_image(staging / "overlay.png", draw_overlay(scene, read_image(scene.image_path), regions))
@@ -246,6 +247,12 @@ def cmd_init(args: argparse.Namespace) -> int:
         taken = f" (taken to {output / starter.ground_points_path.name})" if starter.ground_points_path else ""
         print(f"         reprojection median {np.median(errors):.2f} px, max {errors.max():.2f} px over {len(errors)} "
               f"points{taken}")
+    if starter.people is not None:
+        from vc.scenes.walker_overlay import solution_lines
+
+        for line in solution_lines(starter.people):
+            print(f"         {line}")
+        print(f"         drawn in {output / 'walkers.png'}: the yellow ticks must sit on the green lines' tops")
     if starter.background is not None:
         print(f"background median of {len(starter.background.frame_indices)} frames")
         _print_background_cover(starter.background)
@@ -318,16 +325,19 @@ def build_parser() -> argparse.ArgumentParser:
     light.set_defaults(run=cmd_light)
 
     init = commands.add_parser("init", help="a starting scene from a camera's video (or image) and its "
-                                            "calibration or measured ground points")
+                                            "calibration, measured ground points, or the people walking through it")
     init.add_argument("input", type=Path, help="video file, folder of frames, or one image")
     init.add_argument("-o", "--output", type=Path, required=True, help="the new scene's folder")
-    source = init.add_mutually_exclusive_group(required=True)
+    source = init.add_mutually_exclusive_group()
     source.add_argument("--points", type=Path, help="CSV of u, v, x, y: image points and their ground positions (m)")
     source.add_argument("--calibration", type=Path, help="a calibration file (tsai-xml, towncentre-ci, opencv, ...)")
     source.add_argument("--mot-world", type=Path, help="ground truth with each person's ground position (MOT "
                                                        "frame,id,left,top,width,height,conf,x,y,z): feet as points")
     init.add_argument("--format", default=None, help="the calibration file's format (default: from its suffix)")
     init.add_argument("--focal", type=float, default=None, help="focal length in pixels, when known")
+    init.add_argument("--frames", type=FrameRange.parse, default=FrameRange(),
+                      help="the frames of the video (or folder) to read for the background and the walkers, "
+                           "first:last:step (default: all)")
     init.set_defaults(run=cmd_init)
 
     calibrate = commands.add_parser("calibrate", help="solve the camera from measured ground points or a "

@@ -77,17 +77,20 @@ def _masked_median(stack: np.ndarray, covered: np.ndarray) -> tuple[np.ndarray, 
 
 
 def median_background(video: Path, max_frames: int = 150, progress: bool = True,
-                      people: dict[int, np.ndarray] | None = None) -> BackgroundResult:
-    """Median of up to ``max_frames`` frames spread evenly over a whole video or folder of frames (RGB uint8).
+                      people: dict[int, np.ndarray] | None = None, frames: FrameRange | None = None
+                      ) -> BackgroundResult:
+    """Median of up to ``max_frames`` frames spread evenly over a whole video or folder of frames (RGB uint8), or
+    over its ``frames``.
 
     ``people``: frame number (1-based, as the MOT Challenge format counts) -> that frame's boxes [x0, y0, x1, y1];
     each frame's pixels inside them are left out of the median (see the module docstring)."""
     video = Path(video)
     if max_frames < 3:
         raise InputError(None, "--frames", f"need at least 3 frames for a median, got {max_frames}")
-    total = len(FrameSource(video))
+    frames = frames or FrameRange()
+    total = len(FrameSource(video, frames))
     # Decoding sequentially and keeping every k-th frame is robust to containers whose seeking is inexact.
-    source = FrameSource(video, FrameRange(1, None, max(1, total // max_frames)))
+    source = FrameSource(video, FrameRange(frames.first, frames.last, frames.step * max(1, total // max_frames)))
     frames, indices = [], []
     for frame in tqdm(source, total=min(len(source), max_frames), unit="frame", desc="reading",
                       disable=not progress):

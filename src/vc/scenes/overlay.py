@@ -28,6 +28,7 @@ OBSTACLE_COLOUR = (255, 60, 60)
 WALL_COLOUR = (255, 170, 0)
 WALKABLE_COLOUR = (80, 255, 120)
 DRAWN_COLOUR = (255, 255, 255)
+HORIZON_COLOUR = (255, 255, 0)
 #: A 1.75 m stick figure in a local frame (x: the figure's right, z: up), metres. Head drawn separately.
 FIGURE_BONES = np.array([
     [[-0.11, 0, 0.0], [-0.10, 0, 0.49]], [[-0.10, 0, 0.49], [-0.10, 0, 0.92]],
@@ -121,12 +122,20 @@ def draw_figure(image: np.ndarray, camera: Camera, foot: np.ndarray, colour, hei
         draw_polyline(image, camera, line, colour, 1)
 
 
-def _label(image: np.ndarray, text: str, origin: tuple[int, int], colour) -> None:
+def draw_label(image: np.ndarray, text: str, origin: tuple[int, int], colour) -> None:
     x, y = origin
     (w, h), base = cv2.getTextSize(text, cv2.FONT_HERSHEY_SIMPLEX, 0.45, 1)
     y = max(y, h + 2)
     cv2.rectangle(image, (x, y - h - 3), (x + w + 4, y + base - 1), (0, 0, 0), -1)
     cv2.putText(image, text, (x + 2, y - 1), cv2.FONT_HERSHEY_SIMPLEX, 0.45, colour, 1, cv2.LINE_AA)
+
+
+def draw_horizon(image: np.ndarray, camera: Camera) -> None:
+    """The camera's horizon, yellow, where it crosses the image."""
+    horizon = camera.horizon_pixels()
+    horizon = horizon[camera.is_in_image(horizon, margin=max(camera.size))]
+    if len(horizon) >= 2 and camera.is_in_image(horizon).any():
+        cv2.polylines(image, [_to_pixels(horizon)], False, HORIZON_COLOUR, 1, cv2.LINE_AA, shift=4)
 
 
 def draw_pixel_input(image: np.ndarray, drawn: PixelLayout) -> None:
@@ -162,10 +171,7 @@ def draw_overlay(scene: Scene, background: np.ndarray, regions: list[Region]) ->
         _draw_segments(image, camera, blocker.edges(), colour, 1)
     if scene.drawn_layout is not None:
         draw_pixel_input(image, scene.drawn_layout)
-    horizon = camera.horizon_pixels()
-    horizon = horizon[camera.is_in_image(horizon, margin=max(camera.size))]
-    if len(horizon) >= 2 and camera.is_in_image(horizon).any():
-        cv2.polylines(image, [_to_pixels(horizon)], False, (255, 255, 0), 1, cv2.LINE_AA, shift=4)
+    draw_horizon(image, camera)
     for index, region in enumerate(regions):
         colour = PALETTE[index % len(PALETTE)]
         for foot in _figure_positions(region.ground, max(4, FIGURE_COUNT // len(regions))):
@@ -176,7 +182,7 @@ def draw_overlay(scene: Scene, background: np.ndarray, regions: list[Region]) ->
         inset = 2 * index  # keep windows that share an image edge apart
         cv2.rectangle(image, (crop.x0 + inset, crop.y0 + inset), (crop.x1 - 1 - inset, crop.y1 - 1 - inset),
                       colour, 2)
-        _label(image, f"{region.name}  {crop.width}x{crop.height} -> {region.input_size[0]}x"
+        draw_label(image, f"{region.name}  {crop.width}x{crop.height} -> {region.input_size[0]}x"
                       f"{region.input_size[1]}  people {region.person_px[0]:.0f}-{region.person_px[1]:.0f} px",
                (crop.x0 + inset + 2, crop.y0 + inset + 16), colour)
     return image

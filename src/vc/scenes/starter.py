@@ -8,7 +8,10 @@ handful of measured ground points (``vc-scene init``).
    (:mod:`vc.calibration.ground_points`) and written as ``camera.yaml`` for review. Points may also come from a
    MOTChallenge-style ground truth that carries each person's ground position (``frame, id, left, top, width,
    height, conf, x, y, z``): the bottom centre of each box not cut by the image's bottom border is a foot pixel,
-   and (x, y) its ground point.
+   and (x, y) its ground point. With none of these, the camera is solved from the people who walk through the
+   video (:mod:`vc.calibration.walkers`, :mod:`vc.calibration.from_people`), with a focal length given or solved;
+   a focal length the people cannot tell (a level camera) is refused by name. Their sightings are written to
+   ``walkers.json`` and drawn in ``walkers.png``.
 3. **Walkable ground**, drawn in pixels (``layout: {frame: image}``) for the user to trim: the image area whose
    pixels see the ground where a person of the prior's smallest stature stands at least ``min_person_px`` tall
    (the region planner's limit) and no taller than the image (closer, only their legs would be in view: an eye-
@@ -31,6 +34,7 @@ import numpy as np
 import yaml
 
 from vc.calibration.camera import Camera
+from vc.calibration.from_people import MAX_FOCAL_SPREAD, PeopleCalibration, solve
 from vc.calibration.ground_points import (
     GroundCalibration,
     calibrate_from_ground_points,
@@ -38,12 +42,14 @@ from vc.calibration.ground_points import (
     write_opencv_yaml,
 )
 from vc.calibration.readers import read_calibration
-from vc.deploy.frames import IMAGE_SUFFIXES
+from vc.calibration.walkers import Sighting, walkers_in_video
+from vc.deploy.frames import IMAGE_SUFFIXES, FrameRange
 from vc.errors import InputError
 from vc.evaluation.mot import read_mot_boxes, read_mot_world
-from vc.io import read_image, write_image
+from vc.io import read_image, write_image, write_json
 from vc.scenes.background import BackgroundResult, median_background
 from vc.scenes.schema import Priors, RegionPlanSpec
+from vc.scenes.walker_overlay import draw_walkers
 
 #: The walkable outline is simplified to within this many pixels.
 OUTLINE_TOLERANCE_PX = 2.0
@@ -66,6 +72,7 @@ class StarterScene:
     walkable_px: list[list[float]]
     ground_points_path: Path | None = None  # points taken from a ground truth, for review
     background: BackgroundResult | None = None  # None: the image was given
+    people: PeopleCalibration | None = None  # the camera as solved from people walking through the video
 
     def to_dict(self) -> dict:
         result = {"scene": self.scene_path.name, "background": self.background_path.name,
@@ -75,6 +82,8 @@ class StarterScene:
         if self.fit is not None:
             result["fit"] = {key: value for key, value in self.fit.to_dict().items() if key != "points"}
             result["points"] = len(self.fit.errors_px)
+        if self.people is not None:
+            result["people"] = self.people.to_dict()
         if self.background is not None:
             result["background_median"] = {key: value for key, value in self.background.to_dict().items()
                                            if key != "frame_indices"}
@@ -121,33 +130,67 @@ def walkable_outline(camera: Camera, height_m: float, min_person_px: float) -> l
     return outline.astype(float).tolist()
 
 
-def _background(source: Path, destination: Path, progress: bool, people: Path | None
+def camera_from_walkers(video: Path, background: np.ndarray, folder: Path, focal_px: float | None,
+                        frames: FrameRange | None, progress: bool) -> PeopleCalibration:
+    """The camera solved from the people walking alone through ``video``'s ``frames``; their sightings written to
+    ``folder/walkers.json`` and drawn in ``folder/walkers.png``. InputError when the people cannot tell the focal
+    length and none is given."""
+    sightings = walkers_in_video(video, background, frames, progress)
+    people = solve(np.array([s.head for s in sightings]), np.array([s.foot for s in sightings]),
+                   np.array([s.track for s in sightings]), (background.shape[1], background.shape[0]), focal_px)
+    if not people.focal_observable:
+        raise InputError(video, "--focal", f"the people walking through this view cannot tell the camera's focal "
+                                           f"length (it varies by {people.focal_spread_share:.0%} over resamples "
+                                           f"of them, more than {MAX_FOCAL_SPREAD:.0%}; the camera looks "
+                                           f"{people.tilt_deg:.1f} deg down): give --focal in pixels, or --points")
+    write_json(folder / "walkers.json", {"people": people.to_dict(),
+                                         "sightings": [_sighting_dict(sighting, bool(kept)) for sighting, kept
+                                                       in zip(sightings, people.inliers, strict=True)]})
+    write_image(folder / "walkers.png", draw_walkers(background, sightings, people))
+    return people
+
+
+def _sighting_dict(sighting: Sighting, kept: bool) -> dict:
+    return {"frame": sighting.frame, "track": sighting.track, "head": [round(v, 1) for v in sighting.head],
+            "foot": [round(v, 1) for v in sighting.foot], "kept": kept}
+
+
+def _background(source: Path, destination: Path, progress: bool, people: Path | None, frames: FrameRange | None
                 ) -> tuple[BackgroundResult | None, np.ndarray]:
-    """The background image written to ``destination``, and how it was made from a video (or frames), if it was;
-    ``people``: a ground truth whose boxes are left out of the median."""
+    """The background image written to ``destination``, and how it was made from a video's (or folder's)
+    ``frames``, if it was; ``people``: a ground truth whose boxes are left out of the median."""
     if source.is_file() and source.suffix.lower() in IMAGE_SUFFIXES:
         image = read_image(source)
         write_image(destination, image)
         return None, image
-    result = median_background(source, progress=progress, people=None if people is None else read_mot_boxes(people))
+    result = median_background(source, progress=progress, people=None if people is None else read_mot_boxes(people),
+                               frames=frames)
     write_image(destination, result.image)
     return result, result.image
 
 
 def make_starter_scene(source: Path, folder: Path, points: Path | None = None, calibration: Path | None = None,
                        calibration_format: str | None = None, mot_world: Path | None = None,
-                       focal_px: float | None = None, progress: bool = True, name: str | None = None
-                       ) -> StarterScene:
+                       focal_px: float | None = None, progress: bool = True, name: str | None = None,
+                       frames: FrameRange | None = None) -> StarterScene:
     """Write ``folder/scene.yaml`` with its background and camera (see the module docstring); the scene is
-    ``name``d after the folder unless given (a staging folder stands in for the one it becomes)."""
+    ``name``d after the folder unless given (a staging folder stands in for the one it becomes). With no points,
+    calibration or ground truth, the camera is solved from the people walking through the video. ``frames``: the
+    frames of the video (or folder) read for both (default: all)."""
     given = [option for option in (points, calibration, mot_world) if option is not None]
-    if len(given) != 1:
-        raise InputError(None, "--points", "give exactly one of --points, --calibration or --mot-world")
+    if len(given) > 1:
+        raise InputError(None, "--points", "give at most one of --points, --calibration or --mot-world")
     folder.mkdir(parents=True, exist_ok=True)
-    median, image = _background(Path(source), folder / "background.png", progress, mot_world)
+    median, image = _background(Path(source), folder / "background.png", progress, mot_world, frames)
     size = (image.shape[1], image.shape[0])
-    fit, points_path = None, None
-    if calibration is not None:
+    fit, points_path, people = None, None, None
+    if not given:
+        people = camera_from_walkers(Path(source), image, folder, focal_px, frames, progress)
+        camera = people.camera
+        write_opencv_yaml(camera, folder / "camera.yaml")
+        reference = {"format": "opencv", "path": "camera.yaml", "response": "auto"}
+        source_text = f"{people.tracks} people walking through it"
+    elif calibration is not None:
         calibration_format = calibration_format or FORMAT_BY_SUFFIX.get(calibration.suffix.lower())
         if calibration_format is None:
             raise InputError(calibration, "--format", "cannot tell the calibration's format from its name: give "
@@ -194,4 +237,4 @@ def make_starter_scene(source: Path, folder: Path, points: Path | None = None, c
               "# m2_per_person: 10} for coats on a busy pavement.\n")
     scene_path.write_text(header + yaml.safe_dump(document, sort_keys=False, width=120))
     return StarterScene(scene_path, folder / "background.png", camera, source_text, fit, walkable, points_path,
-                        median)
+                        median, people)
