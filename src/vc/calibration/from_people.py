@@ -19,13 +19,15 @@ in units of the person's height in pixels (a 5 % stature error weighs the same n
 a soft-L1 loss refines it; people whose residual is beyond :data:`OUTLIER_MADS` robust deviations (children,
 cyclists, a person merged with a neighbour or a shadow) are dropped and the fit repeated. A focal length given by
 the user is held fixed. The uncertainty of each parameter is its spread over fits to resamples of the tracks (a track
-is one person: its sightings are not independent), the bootstrap Lv et al. and Tang et al. (ICPR 2016) report.
+is one person: its sightings are not independent), the bootstrap Lv et al. and Tang et al. (ICPR 2016) report; and
+the focal length's profile (:func:`focal_profile`) says whether the people determine it at all.
 
 **Where it fails**, and says so through its uncertainty or by refusing: too few people (:data:`MIN_TRACKS`); people
 all at one depth, or walking one way along one line (the horizon is then barely constrained); a camera looking
 nearly straight down (head-foot lines all but parallel to the optical axis: tilt and focal trade off) or nearly
 level (head-foot lines parallel in the image: the vertical vanishing point is at infinity and the focal length is
-not observable; :data:`MAX_FOCAL_SPREAD`). What it measures on real cameras is in docs/own_camera.md.
+not observable; :data:`MAX_FOCAL_SPREAD`, :data:`MIN_PROFILE_RISE`). What it measures on real cameras is in
+docs/own_camera.md.
 """
 
 from __future__ import annotations
@@ -54,6 +56,12 @@ BOOTSTRAP = 100
 #: A focal length whose bootstrap spread is more than this share of it is not observable from these people (a level
 #: camera, or people at one depth): it must be given.
 MAX_FOCAL_SPREAD = 0.25
+#: The focal length is determined only where cameras with these multiples of it (the others fitted anew) explain
+#: the people worse, their median residual higher by this share at least. A focal length off by a factor of two is
+#: of no use; drawn walkers all at one depth, or seen from eye level or from straight above, rise by 0-5 % there,
+#: walkers spread over depth by 30 % and more (experiments/2026-11-30-where-walker-calibration-fails).
+PROFILE_FOCAL_FACTORS = (0.5, 2.0)
+MIN_PROFILE_RISE = 0.05
 #: The coarse grid: focal lengths as multiples of the image width, tilts (degrees), heights (m).
 GRID_FOCAL_WIDTHS = np.geomspace(0.35, 4.0, 14)
 GRID_TILT_DEG = np.linspace(1.0, 80.0, 17)
@@ -77,6 +85,7 @@ class PeopleCalibration:
     inliers: np.ndarray = field(repr=False)  # (N,) bool: the sightings the fit kept, in the order given
     residual: float  # median |residual| of the inliers, share of a person's pixel height
     spread: dict[str, float] = field(default_factory=dict)  # bootstrap standard deviation per parameter
+    profile: tuple[float, ...] = ()  # focal_profile's ratios (none when the focal length is given)
 
     @property
     def focal_spread_share(self) -> float:
@@ -85,14 +94,10 @@ class PeopleCalibration:
 
     @property
     def focal_observable(self) -> bool:
-        """Given, or solved with a spread within :data:`MAX_FOCAL_SPREAD` and not pinned to the bounds of focal
-        length or tilt (a level camera's fit runs to the least tilt allowed, every resample with it, and then shows
-        no spread at all)."""
-        low, high = _Parameters((self.camera.width, self.camera.height), None).bounds()
-        pinned = any(math.isclose(value, bound, rel_tol=1e-3) for value, bound
-                     in ((self.focal_px, low[0]), (self.focal_px, high[0]), (self.tilt_deg, low[1]),
-                         (self.tilt_deg, high[1])))
-        return self.focal_given or (self.focal_spread_share <= MAX_FOCAL_SPREAD and not pinned)
+        """Given, or solved with a spread within :data:`MAX_FOCAL_SPREAD`, and explained worse by half and by twice
+        that focal length (:func:`focal_profile`, by at least :data:`MIN_PROFILE_RISE`)."""
+        return self.focal_given or (self.focal_spread_share <= MAX_FOCAL_SPREAD
+                                    and all(ratio >= 1.0 + MIN_PROFILE_RISE for ratio in self.profile))
 
     def to_dict(self) -> dict:
         return {"focal_px": round(self.focal_px, 2), "focal_given": self.focal_given,
@@ -100,6 +105,8 @@ class PeopleCalibration:
                 "height_m": round(self.height_m, 3), "stature_m": self.stature_m, "sightings": self.sightings,
                 "tracks": self.tracks, "outliers": int((~self.inliers).sum()),
                 "median_residual": round(self.residual, 4),
+                "focal_profile": {f"x{factor:g}": round(ratio, 3) for factor, ratio
+                                  in zip(PROFILE_FOCAL_FACTORS, self.profile, strict=False)},  # none when given
                 "uncertainty": {name: round(value, 4) for name, value in self.spread.items()}}
 
 
@@ -197,6 +204,26 @@ def _fit(parameters: _Parameters, heads: np.ndarray, feet: np.ndarray, stature_m
     return params, _inliers(params, parameters.size, heads, feet, stature_m)
 
 
+def _median_residual(params: np.ndarray, size: tuple[int, int], heads: np.ndarray, feet: np.ndarray,
+                     stature_m: float) -> float:
+    return float(np.median(np.linalg.norm(_residuals(params, size, heads, feet, stature_m).reshape(-1, 2), axis=1)))
+
+
+def focal_profile(size: tuple[int, int], heads: np.ndarray, feet: np.ndarray, stature_m: float, params: np.ndarray,
+                  inliers: np.ndarray) -> tuple[float, ...]:
+    """How much worse the best camera with each of :data:`PROFILE_FOCAL_FACTORS` times the solved focal length
+    explains the kept sightings: its median residual over the solution's. The bootstrap cannot show a focal length
+    the people leave free: each resample starts at the solution and stays there (all people at one depth, or a
+    camera at eye level, explain as well at any focal length)."""
+    best = _median_residual(params, size, heads[inliers], feet[inliers], stature_m)
+    ratios = []
+    for factor in PROFILE_FOCAL_FACTORS:
+        held = _Parameters(size, float(params[0]) * factor)
+        other, _ = _fit(held, heads, feet, stature_m, _grid_start(held, heads, feet, stature_m))
+        ratios.append(_median_residual(other, size, heads[inliers], feet[inliers], stature_m) / max(best, 1e-9))
+    return tuple(ratios)
+
+
 def solve(heads: np.ndarray, feet: np.ndarray, tracks: np.ndarray, size: tuple[int, int],
           focal_px: float | None = None, stature_m: float = STATURE_M, bootstrap: int = BOOTSTRAP,
           seed: int = 0) -> PeopleCalibration:
@@ -220,12 +247,14 @@ def solve(heads: np.ndarray, feet: np.ndarray, tracks: np.ndarray, size: tuple[i
         rows = np.concatenate([np.flatnonzero(tracks == person) for person in chosen])
         draws.append(_fit(parameters, heads[rows], feet[rows], stature_m, params)[0])
     spread = dict(zip(PARAMETERS, np.std(np.array(draws), axis=0).tolist(), strict=True)) if draws else {}
+    profile = () if focal_px is not None else focal_profile(size, heads, feet, stature_m, params, inliers)
     residual = np.linalg.norm(_residuals(params, size, heads[inliers], feet[inliers], stature_m).reshape(-1, 2),
                               axis=1)
     focal, tilt, roll, height = (float(value) for value in params)
     return PeopleCalibration(camera_of(size, focal, tilt, roll, height), focal, tilt, roll, height,
                              focal_px is not None, stature_m, int(inliers.sum()),
-                             int(len(np.unique(tracks[inliers]))), inliers, float(np.median(residual)), spread)
+                             int(len(np.unique(tracks[inliers]))), inliers, float(np.median(residual)), spread,
+                             profile)
 
 
 def pose_of(camera: Camera) -> dict[str, float]:

@@ -34,7 +34,7 @@ import numpy as np
 import yaml
 
 from vc.calibration.camera import Camera
-from vc.calibration.from_people import MAX_FOCAL_SPREAD, PeopleCalibration, solve
+from vc.calibration.from_people import MAX_FOCAL_SPREAD, MIN_PROFILE_RISE, PeopleCalibration, solve
 from vc.calibration.ground_points import (
     GroundCalibration,
     calibrate_from_ground_points,
@@ -139,10 +139,13 @@ def camera_from_walkers(video: Path, background: np.ndarray, folder: Path, focal
     people = solve(np.array([s.head for s in sightings]), np.array([s.foot for s in sightings]),
                    np.array([s.track for s in sightings]), (background.shape[1], background.shape[0]), focal_px)
     if not people.focal_observable:
+        worse = " and ".join(f"{ratio - 1:+.0%}" for ratio in people.profile)
         raise InputError(video, "--focal", f"the people walking through this view cannot tell the camera's focal "
-                                           f"length (it varies by {people.focal_spread_share:.0%} over resamples "
-                                           f"of them, more than {MAX_FOCAL_SPREAD:.0%}; the camera looks "
-                                           f"{people.tilt_deg:.1f} deg down): give --focal in pixels, or --points")
+                                           f"length: it varies by {people.focal_spread_share:.0%} over resamples of "
+                                           f"them (at most {MAX_FOCAL_SPREAD:.0%}), and half or twice it explains "
+                                           f"them {worse} worse (at least {MIN_PROFILE_RISE:+.0%}); a camera at eye "
+                                           f"level, or people who all walk at one depth, do this: give --focal in "
+                                           f"pixels, or --points")
     write_json(folder / "walkers.json", {"people": people.to_dict(),
                                          "sightings": [_sighting_dict(sighting, bool(kept)) for sighting, kept
                                                        in zip(sightings, people.inliers, strict=True)]})
