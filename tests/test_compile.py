@@ -150,8 +150,9 @@ def test_composed_frames_put_people_where_their_boxes_say(compiled):
 
 
 def test_bring_your_own_camera_from_a_video_and_four_points(compiled, toy_config, tmp_path):
-    """The README's walkthrough: a video and four measured ground points -> a scene -> a bundle -> an overlay
-    video. The "camera" is the demo scene's, its video the demo's renders composed into its background."""
+    """The README's walkthrough with measured ground points: a video and four points -> a scene -> a bundle -> an
+    overlay video. The "camera" is the demo scene's, its video the demo's renders composed into its background (six
+    frames: too few walkers to solve it from them; that path is tests/test_people_calibration.py's)."""
     import cv2
 
     from vc.cli import run as run_cli
