@@ -196,6 +196,19 @@ def test_init_refuses_a_level_camera_without_its_focal_length_and_one_image(tmp_
     assert "one image shows no one walking" in capsys.readouterr().err
 
 
+def test_init_from_a_video_where_nobody_walks_or_the_lights_go_out_is_refused_by_name(tmp_path, capsys):
+    """Empty frames, then the same view black and white: no blob is a walker, nothing divides by zero, and the
+    refusal names the people it needs."""
+    (tmp_path / "frames").mkdir()
+    background = _background()
+    for number in range(12):
+        frame = background if number < 8 else np.full_like(background, 0 if number % 2 else 255)
+        write_image(tmp_path / "frames" / f"frame{number:03d}.png", frame)
+    assert vc_scene(["init", str(tmp_path / "frames"), "-o", str(tmp_path / "cam")]) == 2
+    assert "0 people were seen walking alone; the camera needs 8 or more" in capsys.readouterr().err
+    assert not (tmp_path / "cam").exists()
+
+
 @pytest.mark.pets
 def test_pets09_from_its_video_alone(pets_data, pets_camera, tmp_path, capsys):
     """Today's figures on PETS09 (dev frames 1-400, every 2nd), against its Tsai calibration: focal +6.7 %, tilt
