@@ -31,7 +31,7 @@ BAND_ROWS = 32
 @dataclass(frozen=True)
 class BackgroundResult:
     image: np.ndarray
-    frames_in_video: int
+    frames_in_video: int  # in the video, or in the frames chosen of it
     frame_indices: list[int]
     people_masked: bool = False
     #: share of the image covered by a person in every sampled frame (plain median there); 0 without boxes
@@ -87,10 +87,11 @@ def median_background(video: Path, max_frames: int = 150, progress: bool = True,
     video = Path(video)
     if max_frames < 3:
         raise InputError(None, "--frames", f"need at least 3 frames for a median, got {max_frames}")
-    frames = frames or FrameRange()
-    total = len(FrameSource(video, frames))
+    selection = frames or FrameRange()
+    total = len(FrameSource(video, selection))
     # Decoding sequentially and keeping every k-th frame is robust to containers whose seeking is inexact.
-    source = FrameSource(video, FrameRange(frames.first, frames.last, frames.step * max(1, total // max_frames)))
+    source = FrameSource(video, FrameRange(selection.first, selection.last,
+                                           selection.step * max(1, total // max_frames)))
     frames, indices = [], []
     for frame in tqdm(source, total=min(len(source), max_frames), unit="frame", desc="reading",
                       disable=not progress):
