@@ -133,7 +133,8 @@ def _focal_from_homography(h: np.ndarray, path: Path | None) -> float:
     return 1.0 / np.sqrt(inverse_square)
 
 
-def _intrinsics(width: int, height: int, focal_px: float) -> np.ndarray:
+def intrinsics(width: int, height: int, focal_px: float) -> np.ndarray:
+    """Square pixels, no skew, the principal point at the image centre."""
     return np.array([[focal_px, 0.0, (width - 1) / 2], [0.0, focal_px, (height - 1) / 2], [0.0, 0.0, 1.0]])
 
 
@@ -149,7 +150,7 @@ def camera_from_homography(ground_to_image: np.ndarray, size: tuple[int, int], f
         raise InputError(path, "", "the homography is singular: it does not map a plane onto the image")
     to_centre = np.array([[1.0, 0.0, -(width - 1) / 2], [0.0, 1.0, -(height - 1) / 2], [0.0, 0.0, 1.0]])
     focal = float(focal_px) if focal_px is not None else _focal_from_homography(to_centre @ h, path)
-    m = np.linalg.inv(_intrinsics(width, height, focal)) @ h
+    m = np.linalg.inv(intrinsics(width, height, focal)) @ h
     scale = 2.0 / (np.linalg.norm(m[:, 0]) + np.linalg.norm(m[:, 1]))
     probe = np.asarray(ground_points if ground_points is not None else [[0.0, 0.0]], np.float64)
     depth = (scale * m @ np.c_[probe, np.ones(len(probe))].T)[2]
@@ -160,7 +161,7 @@ def camera_from_homography(ground_to_image: np.ndarray, size: tuple[int, int], f
     r1, r2, t = sign * scale * m[:, 0], sign * scale * m[:, 1], sign * scale * m[:, 2]
     u, _, vt = np.linalg.svd(np.column_stack([r1, r2, np.cross(r1, r2)]))
     rotation = u @ np.diag([1.0, 1.0, np.linalg.det(u @ vt)]) @ vt
-    camera = Camera(width, height, _intrinsics(width, height, focal), rotation, t)
+    camera = Camera(width, height, intrinsics(width, height, focal), rotation, t)
     if camera.center[2] <= 0:
         raise InputError(path, "", f"the solution puts the camera {-camera.center[2]:.2f} m below the ground: the "
                                    "ground axes are probably mirrored (x, y must be right-handed seen from above)")
@@ -172,18 +173,20 @@ def camera_from_homography(ground_to_image: np.ndarray, size: tuple[int, int], f
     return camera
 
 
-def _residuals(camera: Camera, image: np.ndarray, ground: np.ndarray) -> np.ndarray:
+def reprojection_residuals(camera: Camera, image: np.ndarray, ground: np.ndarray) -> np.ndarray:
+    """Each ground point's projection minus its pixel (N, 2); 1e6 where the camera cannot see it."""
     projected = camera.project(np.c_[ground, np.zeros(len(ground))])
     return np.where(projected.ok[:, None], projected.uv - image, 1e6)
 
 
-def calibrate_from_ground_points(image: np.ndarray, ground: np.ndarray, size: tuple[int, int],
-                                 focal_px: float | None = None, path: Path | None = None) -> GroundCalibration:
-    """Solve the camera from ``image`` (N, 2 px) <-> ``ground`` (N, 2 m) pairs (see the module docstring)."""
+def check_points(image: np.ndarray, ground: np.ndarray, size: tuple[int, int], minimum: int,
+                 path: Path | None) -> tuple[np.ndarray, np.ndarray]:
+    """``image`` (N, 2 px) and ``ground`` (N, 2 m) as float arrays, or InputError naming ``path`` when there are
+    fewer than ``minimum`` of them, one is not finite or one lies outside the image of ``size``."""
     image, ground = np.asarray(image, np.float64).reshape(-1, 2), np.asarray(ground, np.float64).reshape(-1, 2)
     width, height = size
-    if len(image) < MIN_POINTS:
-        raise InputError(path, "", f"needs at least {MIN_POINTS} points, got {len(image)}")
+    if len(image) < minimum:
+        raise InputError(path, "", f"needs at least {minimum} points, got {len(image)}")
     if not (np.isfinite(image).all() and np.isfinite(ground).all()):
         raise InputError(path, "", "a point is not finite (NaN or inf)")
     outside = np.nonzero((image[:, 0] < -0.5) | (image[:, 0] > width - 0.5) | (image[:, 1] < -0.5)
@@ -191,6 +194,14 @@ def calibrate_from_ground_points(image: np.ndarray, ground: np.ndarray, size: tu
     if len(outside):
         raise InputError(path, f"point {outside[0] + 1}", f"({image[outside[0], 0]:g}, {image[outside[0], 1]:g}) "
                                                           f"lies outside the {width}x{height} image")
+    return image, ground
+
+
+def calibrate_from_ground_points(image: np.ndarray, ground: np.ndarray, size: tuple[int, int],
+                                 focal_px: float | None = None, path: Path | None = None) -> GroundCalibration:
+    """Solve the camera from ``image`` (N, 2 px) <-> ``ground`` (N, 2 m) pairs (see the module docstring)."""
+    image, ground = check_points(image, ground, size, MIN_POINTS, path)
+    width, height = size
     _check_spread(ground, path, "ground points")
     _check_spread(image, path, "image points")
     homography, _ = cv2.findHomography(ground, image, 0)
@@ -201,15 +212,15 @@ def calibrate_from_ground_points(image: np.ndarray, ground: np.ndarray, size: tu
     def unpack(parameters: np.ndarray) -> Camera:
         focal = focal_px if focal_px is not None else float(np.exp(parameters[6]))
         rotation = cv2.Rodrigues(parameters[:3].reshape(3, 1))[0]
-        return Camera(width, height, _intrinsics(width, height, focal), rotation, parameters[3:6])
+        return Camera(width, height, intrinsics(width, height, focal), rotation, parameters[3:6])
 
     start = np.r_[cv2.Rodrigues(camera.R)[0].ravel(), camera.t, [] if focal_px is not None else [np.log(camera.fx)]]
-    fit = least_squares(lambda p: _residuals(unpack(p), image, ground).ravel(), start, method="lm"
+    fit = least_squares(lambda p: reprojection_residuals(unpack(p), image, ground).ravel(), start, method="lm"
                         if 2 * len(image) >= len(start) else "trf")
     refined = unpack(fit.x)
     if refined.center[2] <= 0 or not refined.project(np.c_[ground, np.zeros(len(ground))]).in_front.all():
         refined = camera  # the refinement wandered off; the closed form stands
-    errors = np.linalg.norm(_residuals(refined, image, ground), axis=1)
+    errors = np.linalg.norm(reprojection_residuals(refined, image, ground), axis=1)
     return GroundCalibration(refined, image, ground, errors, focal_px is None)
 
 

@@ -5,8 +5,8 @@
     vc-scene background VIDEO -o background.png [--frames N]
     vc-scene synthesize SCENE -o background.png [--spp S] [--seed K]
     vc-scene light SCENE -o compare.png [--json OUT.json]
-    vc-scene init VIDEO|FRAMES|IMAGE -o DIR [--points P.csv | --calibration FILE [--format F] | --mot-world GT.txt]
-             [--focal F] [--frames first:last:step]
+    vc-scene init VIDEO|FRAMES|IMAGE -o DIR [--points P.csv [--no-people] | --calibration FILE [--format F]
+             | --mot-world GT.txt] [--focal F] [--frames first:last:step]
     vc-scene calibrate POINTS.csv|H.txt --size W H [--format ground-points|homography] [--focal F] [--units U]
              -o camera.yaml [--json OUT.json]
     vc-scene edit DIR|SCENE [--host H] [--port P]
@@ -232,7 +232,8 @@ def cmd_init(args: argparse.Namespace) -> int:
     with atomic_directory(output) as staging:
         starter = make_starter_scene(args.input, staging, args.points, args.calibration, args.format,
                                      args.mot_world, args.focal, progress=sys.stderr.isatty(),
-                                     name=scene_name(output), frames=args.frames)
+                                     name=scene_name(output), frames=args.frames,
+                                     with_people=not args.no_people)
         scene = load_scene(starter.scene_path)
         regions = plan_regions(scene)
         write_image(staging / "overlay.png", draw_overlay(scene, read_image(scene.image_path), regions))
@@ -250,9 +251,13 @@ def cmd_init(args: argparse.Namespace) -> int:
     if starter.people is not None:
         from vc.scenes.walker_overlay import solution_lines
 
+        if starter.fit is not None:
+            print("         the people alone, which the points refined:")
         for line in solution_lines(starter.people):
             print(f"         {line}")
         print(f"         drawn in {output / 'walkers.png'}: the yellow ticks must sit on the green lines' tops")
+    if starter.people_unused is not None:
+        print(f"         points alone: {starter.people_unused}")
     if starter.background is not None:
         print(f"background median of {len(starter.background.frame_indices)} frames")
         _print_background_cover(starter.background)
@@ -333,6 +338,9 @@ def build_parser() -> argparse.ArgumentParser:
     source.add_argument("--calibration", type=Path, help="a calibration file (tsai-xml, towncentre-ci, opencv, ...)")
     source.add_argument("--mot-world", type=Path, help="ground truth with each person's ground position (MOT "
                                                        "frame,id,left,top,width,height,conf,x,y,z): feet as points")
+    init.add_argument("--no-people", action="store_true",
+                      help="with --points: solve from the points alone, not together with the people walking "
+                           "through the video")
     init.add_argument("--format", default=None, help="the calibration file's format (default: from its suffix)")
     init.add_argument("--focal", type=float, default=None, help="focal length in pixels, when known")
     init.add_argument("--frames", type=FrameRange.parse, default=FrameRange(),

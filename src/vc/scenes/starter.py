@@ -11,7 +11,10 @@ handful of measured ground points (``vc-scene init``).
    and (x, y) its ground point. With none of these, the camera is solved from the people who walk through the
    video (:mod:`vc.calibration.walkers`, :mod:`vc.calibration.from_people`), with a focal length given or solved;
    a focal length the people cannot tell (a level camera) is refused by name. Their sightings are written to
-   ``walkers.json`` and drawn in ``walkers.png``.
+   ``walkers.json`` and drawn in ``walkers.png``. Measured points given with a video are solved together with
+   the people walking through it (:mod:`vc.calibration.points_and_people`: the points win where they tell, the
+   people fill in what they leave free; two points then suffice); where the people cannot be used, the points
+   alone, which then need four, and the summary says why.
 3. **Walkable ground**, drawn in pixels (``layout: {frame: image}``) for the user to trim: the image area whose
    pixels see the ground where a person of the prior's smallest stature stands at least ``min_person_px`` tall
    (the region planner's limit) and no taller than the image (closer, only their legs would be in view: an eye-
@@ -36,11 +39,13 @@ import yaml
 from vc.calibration.camera import Camera
 from vc.calibration.from_people import MAX_FOCAL_SPREAD, MIN_PROFILE_RISE, PeopleCalibration, solve
 from vc.calibration.ground_points import (
+    MIN_POINTS,
     GroundCalibration,
     calibrate_from_ground_points,
     read_ground_points,
     write_opencv_yaml,
 )
+from vc.calibration.points_and_people import calibrate_from_points_and_people
 from vc.calibration.readers import read_calibration
 from vc.calibration.walkers import Sighting, walkers_in_video
 from vc.deploy.frames import IMAGE_SUFFIXES, FrameRange
@@ -73,6 +78,7 @@ class StarterScene:
     ground_points_path: Path | None = None  # points taken from a ground truth, for review
     background: BackgroundResult | None = None  # None: the image was given
     people: PeopleCalibration | None = None  # the camera as solved from people walking through the video
+    people_unused: str | None = None  # why the people did not refine the points, when they did not
 
     def to_dict(self) -> dict:
         result = {"scene": self.scene_path.name, "background": self.background_path.name,
@@ -84,6 +90,8 @@ class StarterScene:
             result["points"] = len(self.fit.errors_px)
         if self.people is not None:
             result["people"] = self.people.to_dict()
+        if self.people_unused is not None:
+            result["people_unused"] = self.people_unused
         if self.background is not None:
             result["background_median"] = {key: value for key, value in self.background.to_dict().items()
                                            if key != "frame_indices"}
@@ -153,6 +161,21 @@ def camera_from_walkers(video: Path, background: np.ndarray, folder: Path, focal
     return people
 
 
+def _people_beside_points(source: Path, median: BackgroundResult | None, background: np.ndarray, folder: Path,
+                          focal_px: float | None, frames: FrameRange | None, progress: bool,
+                          wanted: bool) -> tuple[PeopleCalibration | None, str | None]:
+    """The people walking through ``source`` solved to refine measured points, or None and why not (one image,
+    not wanted, too few people, a focal length they cannot tell)."""
+    if not wanted:
+        return None, "--no-people was given"
+    if median is None:
+        return None, "one image shows no one walking"
+    try:
+        return camera_from_walkers(source, background, folder, focal_px, frames, progress), None
+    except InputError as refused:
+        return None, f"the people could not be used ({refused.reason})"
+
+
 def _sighting_dict(sighting: Sighting, kept: bool) -> dict:
     return {"frame": sighting.frame, "track": sighting.track, "head": [round(v, 1) for v in sighting.head],
             "foot": [round(v, 1) for v in sighting.foot], "kept": kept}
@@ -175,18 +198,19 @@ def _background(source: Path, destination: Path, progress: bool, people: Path | 
 def make_starter_scene(source: Path, folder: Path, points: Path | None = None, calibration: Path | None = None,
                        calibration_format: str | None = None, mot_world: Path | None = None,
                        focal_px: float | None = None, progress: bool = True, name: str | None = None,
-                       frames: FrameRange | None = None) -> StarterScene:
+                       frames: FrameRange | None = None, with_people: bool = True) -> StarterScene:
     """Write ``folder/scene.yaml`` with its background and camera (see the module docstring); the scene is
     ``name``d after the folder unless given (a staging folder stands in for the one it becomes). With no points,
-    calibration or ground truth, the camera is solved from the people walking through the video. ``frames``: the
-    frames of the video (or folder) read for both (default: all)."""
+    calibration or ground truth, the camera is solved from the people walking through the video; with points and
+    a video, from both unless ``with_people`` is False. ``frames``: the frames of the video (or folder) read for
+    both (default: all)."""
     given = [option for option in (points, calibration, mot_world) if option is not None]
     if len(given) > 1:
         raise InputError(None, "--points", "give at most one of --points, --calibration or --mot-world")
     folder.mkdir(parents=True, exist_ok=True)
     median, image = _background(Path(source), folder / "background.png", progress, mot_world, frames)
     size = (image.shape[1], image.shape[0])
-    fit, points_path, people = None, None, None
+    fit, points_path, people, people_unused = None, None, None, None
     if not given:
         people = camera_from_walkers(Path(source), image, folder, focal_px, frames, progress)
         camera = people.camera
@@ -213,12 +237,21 @@ def make_starter_scene(source: Path, folder: Path, points: Path | None = None, c
             points_path.write_text("u,v,x,y\n" + "".join(f"{u:.2f},{v:.2f},{x:.4f},{y:.4f}\n" for (u, v), (x, y)
                                                          in zip(image_points, ground_points, strict=True)))
             source_text = f"{len(image_points)} feet of {mot_world.name}"
-            where = mot_world
+            fit = calibrate_from_ground_points(image_points, ground_points, size, focal_px, mot_world)
         else:
             image_points, ground_points = read_ground_points(points)
             source_text = f"{len(image_points)} ground points of {points.name}"
-            where = points
-        fit = calibrate_from_ground_points(image_points, ground_points, size, focal_px, where)
+            people, people_unused = _people_beside_points(Path(source), median, image, folder, focal_px, frames,
+                                                          progress, with_people)
+            if people is not None:
+                fit = calibrate_from_points_and_people(image_points, ground_points, people, points)
+                source_text += f" and {people.tracks} people walking through it"
+            else:
+                if len(image_points) < MIN_POINTS:
+                    raise InputError(points, "", f"{len(image_points)} points solve a camera only with the people "
+                                                 f"walking through a video, and {people_unused}: measure "
+                                                 f"{MIN_POINTS} or more")
+                fit = calibrate_from_ground_points(image_points, ground_points, size, focal_px, points)
         camera = fit.camera
         write_opencv_yaml(camera, folder / "camera.yaml")
         reference = {"format": "opencv", "path": "camera.yaml", "response": "auto"}
@@ -240,4 +273,4 @@ def make_starter_scene(source: Path, folder: Path, points: Path | None = None, c
               "# m2_per_person: 10} for coats on a busy pavement.\n")
     scene_path.write_text(header + yaml.safe_dump(document, sort_keys=False, width=120))
     return StarterScene(scene_path, folder / "background.png", camera, source_text, fit, walkable, points_path,
-                        median, people)
+                        median, people, people_unused)
