@@ -288,6 +288,8 @@ def test_init_with_three_points_and_a_video_solves_both_and_refuses_three_points
     error = capsys.readouterr().err
     assert str(points) in error and "--no-people was given: measure 4 or more" in error
     assert not (tmp_path / "alone").exists()
+    assert vc_scene(["init", str(video), "-o", str(tmp_path / "none"), "--no-people"]) == 2
+    assert "--no-people: goes with --points only" in capsys.readouterr().err
 
 
 @pytest.mark.pets

@@ -207,6 +207,9 @@ def make_starter_scene(source: Path, folder: Path, points: Path | None = None, c
     given = [option for option in (points, calibration, mot_world) if option is not None]
     if len(given) > 1:
         raise InputError(None, "--points", "give at most one of --points, --calibration or --mot-world")
+    if not with_people and points is None:
+        raise InputError(None, "--no-people", "goes with --points only: without points the camera comes from a "
+                                              "calibration file, a ground truth's feet, or the people alone")
     folder.mkdir(parents=True, exist_ok=True)
     median, image = _background(Path(source), folder / "background.png", progress, mot_world, frames)
     size = (image.shape[1], image.shape[0])
