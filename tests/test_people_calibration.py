@@ -10,6 +10,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
+import yaml
 
 from vc.calibration.camera import Camera
 from vc.calibration.from_people import MIN_TRACKS, camera_of, pose_of, solve
@@ -171,8 +172,11 @@ def test_init_from_a_video_alone_solves_its_camera_and_draws_the_people(tmp_path
     assert vc_scene(["init", str(video), "-o", str(out)]) == 0
     printed = capsys.readouterr().out
     assert "people walking through it" in printed and "+-" in printed
-    for name in ("scene.yaml", "camera.yaml", "walkers.png", "walkers.json", "overlay.png", "init.json"):
+    for name in ("scene.yaml", "walkers.png", "walkers.json", "overlay.png", "init.json"):
         assert (out / name).stat().st_size > 0
+    # The scene's camera is the people's solution itself, where the editor's measured points can refine it.
+    assert yaml.safe_load((out / "scene.yaml").read_text())["calibration"]["format"] == "people"
+    assert not (out / "camera.yaml").exists()
     report = json.loads((out / "init.json").read_text())
     people = report["people"]
     assert people["tracks"] >= 10 and people["stature_m"] == 1.70 and set(people["uncertainty"]) == {
@@ -280,6 +284,8 @@ def test_init_with_three_points_and_a_video_solves_both_and_refuses_three_points
     assert "3 ground points of points.csv and" in printed and "the people alone, which the points refined" in printed
     report = json.loads((out / "init.json").read_text())
     assert report["points"] == 3 and report["people"]["tracks"] >= 10 and "people_unused" not in report
+    calibration = yaml.safe_load((out / "scene.yaml").read_text())["calibration"]
+    assert calibration["format"] == "people" and np.allclose(np.array(calibration["points"])[:, 2:], ground, atol=1e-3)
     from vc.scenes.loader import load_scene
 
     errors = _errors(load_scene(out / "scene.yaml").camera, truth)
@@ -290,6 +296,22 @@ def test_init_with_three_points_and_a_video_solves_both_and_refuses_three_points
     assert not (tmp_path / "alone").exists()
     assert vc_scene(["init", str(video), "-o", str(tmp_path / "none"), "--no-people"]) == 2
     assert "--no-people: goes with --points only" in capsys.readouterr().err
+    # The scene keeps the people and the points; a bad point is the loader's error, named in the scene.
+    scene_file = out / "scene.yaml"
+    document = yaml.safe_load(scene_file.read_text())
+    document["calibration"]["points"] = document["calibration"]["points"][:1]
+    scene_file.write_text(yaml.safe_dump(document))
+    assert vc_scene(["check", str(scene_file)]) == 2
+    assert "calibration.points: needs at least 2 points, got 1" in capsys.readouterr().err
+    document["calibration"].update(format="opencv", path="walkers.json")
+    scene_file.write_text(yaml.safe_dump(document))
+    assert vc_scene(["check", str(scene_file)]) == 2
+    assert "points refine a camera solved from people" in capsys.readouterr().err
+    document["calibration"].update(format="people", points=None)
+    scene_file.write_text(yaml.safe_dump(document))
+    (out / "walkers.json").write_text('{"size": [480, 360], "people": {"focal_px": "long"}}')
+    assert vc_scene(["check", str(scene_file)]) == 2
+    assert "walkers.json: people: not a solution written by vc-scene init" in capsys.readouterr().err
 
 
 @pytest.mark.pets

@@ -110,6 +110,20 @@ class PeopleCalibration:
                 "uncertainty": {name: round(value, 4) for name, value in self.spread.items()}}
 
 
+def people_from_dict(data: dict, size: tuple[int, int]) -> PeopleCalibration:
+    """A solution as :meth:`PeopleCalibration.to_dict` wrote it, for an image of ``size``: its camera, spread and
+    profile (the sightings are not in it; ``inliers`` is empty). KeyError or ValueError on a malformed one."""
+    focal, tilt, roll, height = (float(data[name]) for name in PARAMETERS)
+    values = [focal, tilt, roll, height, float(data["stature_m"])]
+    if not all(math.isfinite(value) for value in values) or focal <= 0 or height <= 0:
+        raise ValueError("focal_px and height_m must be positive numbers")
+    spread = {name: float(value) for name, value in data.get("uncertainty", {}).items() if name in PARAMETERS}
+    return PeopleCalibration(camera_of(size, focal, tilt, roll, height), focal, tilt, roll, height,
+                             bool(data["focal_given"]), values[4], int(data["sightings"]), int(data["tracks"]),
+                             np.zeros(0, bool), float(data["median_residual"]), spread,
+                             tuple(float(value) for value in data.get("focal_profile", {}).values()))
+
+
 def camera_of(size: tuple[int, int], focal_px: float, tilt_deg: float, roll_deg: float, height_m: float) -> Camera:
     """The model's camera: at (0, 0, ``height_m``), looking along +y and down by ``tilt_deg``, rolled by
     ``roll_deg``, principal point at the image centre."""

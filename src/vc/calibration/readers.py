@@ -7,10 +7,12 @@
 | ``opencv``     | ``cv::FileStorage`` YAML / JSON        | metres (``units`` to override) |
 | ``ground-points`` | CSV of ``u, v, x, y``: image points and their measured ground positions (solved) | metres |
 | ``homography`` | a 3x3 image -> ground homography, ETH/UCY ``H.txt`` (solved)  | metres |
+| ``people``     | ``walkers.json``: ``vc-scene init``'s camera solved from walking people | metres (stature prior) |
 
-The last two are solved, not read (:mod:`vc.calibration.ground_points`): they need the image size, and take the
-focal length in pixels when it is known (``focal_px``; otherwise it is solved with the principal point at the
-image centre).
+``ground-points`` and ``homography`` are solved, not read (:mod:`vc.calibration.ground_points`): they need the image
+size, and take the focal length in pixels when it is known (``focal_px``; otherwise it is solved with the principal
+point at the image centre). A ``people`` camera may be refined by measured points named in the scene
+(``calibration.points``; :mod:`vc.calibration.points_and_people`), which the scene loader applies.
 
 Every reader raises :class:`vc.errors.InputError` naming the file and the field on a bad file. Readers return
 cameras in metres; ``units`` converts files written in other units.
@@ -18,6 +20,7 @@ cameras in metres; ``units`` converts files written in other units.
 
 from __future__ import annotations
 
+import json
 import re
 import xml.etree.ElementTree as ET
 from collections.abc import Callable
@@ -27,6 +30,7 @@ import numpy as np
 
 from vc.calibration.camera import Camera, rotation_from_quaternion, rotation_xyz
 from vc.calibration.distortion import BrownConrady, TsaiRadial
+from vc.calibration.from_people import PeopleCalibration, people_from_dict
 from vc.calibration.ground_points import (
     calibrate_from_ground_points,
     camera_from_homography,
@@ -246,6 +250,19 @@ def _read(reader: Callable[[Path, tuple[int, int] | None, str], Camera], default
     return read
 
 
+def read_people_solution(path: Path) -> PeopleCalibration:
+    """The camera solved from the people walking through a video, as ``vc-scene init`` writes it
+    (``walkers.json``: ``size`` and ``people``, see :mod:`vc.calibration.from_people`)."""
+    try:
+        document = json.loads(Path(path).read_text())
+        size = (int(document["size"][0]), int(document["size"][1]))
+        return people_from_dict(document["people"], size)
+    except OSError as error:
+        raise InputError(path, "", f"cannot read: {error.strerror or error}") from None
+    except (ValueError, KeyError, TypeError, IndexError) as error:
+        raise InputError(path, "people", f"not a solution written by vc-scene init ({error})") from None
+
+
 #: Calibration formats by name, as written in a scene's ``calibration.format``: (path, size, units, focal_px).
 READERS: dict[str, Callable[[Path, tuple[int, int] | None, str | None, float | None], Camera]] = {
     "tsai-xml": _read(lambda path, size, units: read_tsai_xml(path, units), "mm"),
@@ -253,6 +270,7 @@ READERS: dict[str, Callable[[Path, tuple[int, int] | None, str | None, float | N
     "opencv": _read(read_opencv, "m"),
     "ground-points": _solved_from_points,
     "homography": _solved_from_homography,
+    "people": _read(lambda path, size, units: read_people_solution(path).camera, "m"),
 }
 
 

@@ -17,7 +17,8 @@ from pydantic import ValidationError
 
 from vc.calibration.camera import Camera
 from vc.calibration.distortion import distortion_from_dict
-from vc.calibration.readers import read_calibration
+from vc.calibration.points_and_people import calibrate_from_points_and_people
+from vc.calibration.readers import UNIT_SCALE, read_calibration, read_people_solution
 from vc.calibration.response_fit import ResponseFit, resolve_response
 from vc.errors import InputError
 from vc.io import image_size
@@ -113,10 +114,24 @@ def _camera(path: Path, spec: SceneFile) -> tuple[Camera, str, list[Path]]:
         raise InputError(path, "calibration.path", f"file not found: {calibration_path}")
     size = tuple(reference.size) if reference.size else None
     camera = read_calibration(calibration_path, reference.format, size, reference.units, reference.focal_px)
+    if reference.points:
+        camera = _refined_by_points(path, calibration_path, reference)
     if size is not None and camera.size != size:
         raise InputError(path, "calibration.size", f"scene says {size[0]}x{size[1]} but {calibration_path.name} "
                                                    f"says {camera.width}x{camera.height}")
     return camera, reference.response, [calibration_path]
+
+
+def _refined_by_points(path: Path, calibration_path: Path, reference) -> Camera:
+    """The people's camera of ``calibration_path`` refined by the scene's measured ``calibration.points``."""
+    points = np.asarray(reference.points, np.float64).reshape(-1, 4)
+    people = read_people_solution(calibration_path)
+    try:
+        return calibrate_from_points_and_people(points[:, :2], points[:, 2:] * UNIT_SCALE[reference.units or "m"],
+                                                people).camera
+    except InputError as error:
+        field = ".".join(part for part in ("calibration.points", error.field) if part)
+        raise InputError(path, field, error.reason) from None
 
 
 def _image_path(path: Path, spec: SceneFile) -> Path:

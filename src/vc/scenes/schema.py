@@ -90,6 +90,16 @@ class CalibrationRef(StrictModel):
     focal_px: float | None = Field(None, gt=0)  # ground-points / homography: the focal length, when known
     response: Response = "srgb"
     exposure_s: float | None = Field(None, gt=0, le=1)  # exposure time, when known: decides motion blur
+    #: ``people``: measured ground points ``[u, v, x, y]`` (pixel, then ground position in ``units``) that refine
+    #: the people's camera (vc.calibration.points_and_people); ``vc-scene init --points`` and the editor write them.
+    points: list[tuple[float, float, float, float]] | None = None
+
+    @model_validator(mode="after")
+    def _points_refine_people(self) -> CalibrationRef:
+        if self.points is not None and self.format != "people":
+            raise ValueError(f"points refine a camera solved from people (format: people); a {self.format} "
+                             f"calibration takes none")
+        return self
 
     @field_validator("format")
     @classmethod

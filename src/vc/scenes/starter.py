@@ -11,10 +11,12 @@ handful of measured ground points (``vc-scene init``).
    and (x, y) its ground point. With none of these, the camera is solved from the people who walk through the
    video (:mod:`vc.calibration.walkers`, :mod:`vc.calibration.from_people`), with a focal length given or solved;
    a focal length the people cannot tell (a level camera) is refused by name. Their sightings are written to
-   ``walkers.json`` and drawn in ``walkers.png``. Measured points given with a video are solved together with
-   the people walking through it (:mod:`vc.calibration.points_and_people`: the points win where they tell, the
-   people fill in what they leave free; two points then suffice); where the people cannot be used, the points
-   alone, which then need four, and the summary says why.
+   ``walkers.json`` and drawn in ``walkers.png``; the scene's calibration is that file (format ``people``).
+   Measured points given with a video are solved together with the people walking through it
+   (:mod:`vc.calibration.points_and_people`: the points win where they tell, the people fill in what they leave
+   free; two points then suffice), and the scene names them beside the people (``calibration.points``), where
+   ``vc-scene edit`` adds more; where the people cannot be used, the points alone, which then need four, and the
+   summary says why.
 3. **Walkable ground**, drawn in pixels (``layout: {frame: image}``) for the user to trim: the image area whose
    pixels see the ground where a person of the prior's smallest stature stands at least ``min_person_px`` tall
    (the region planner's limit) and no taller than the image (closer, only their legs would be in view: an eye-
@@ -154,7 +156,7 @@ def camera_from_walkers(video: Path, background: np.ndarray, folder: Path, focal
                                            f"them {worse} worse (at least {MIN_PROFILE_RISE:+.0%}); a camera at eye "
                                            f"level, or people who all walk at one depth, do this: give --focal in "
                                            f"pixels, or --points")
-    write_json(folder / "walkers.json", {"people": people.to_dict(),
+    write_json(folder / "walkers.json", {"size": list(people.camera.size), "people": people.to_dict(),
                                          "sightings": [_sighting_dict(sighting, bool(kept)) for sighting, kept
                                                        in zip(sightings, people.inliers, strict=True)]})
     write_image(folder / "walkers.png", draw_walkers(background, sightings, people))
@@ -217,8 +219,7 @@ def make_starter_scene(source: Path, folder: Path, points: Path | None = None, c
     if not given:
         people = camera_from_walkers(Path(source), image, folder, focal_px, frames, progress)
         camera = people.camera
-        write_opencv_yaml(camera, folder / "camera.yaml")
-        reference = {"format": "opencv", "path": "camera.yaml", "response": "auto"}
+        reference = {"format": "people", "path": "walkers.json", "response": "auto"}
         source_text = f"{people.tracks} people walking through it"
     elif calibration is not None:
         calibration_format = calibration_format or FORMAT_BY_SUFFIX.get(calibration.suffix.lower())
@@ -256,8 +257,13 @@ def make_starter_scene(source: Path, folder: Path, points: Path | None = None, c
                                                  f"{MIN_POINTS} or more")
                 fit = calibrate_from_ground_points(image_points, ground_points, size, focal_px, points)
         camera = fit.camera
-        write_opencv_yaml(camera, folder / "camera.yaml")
-        reference = {"format": "opencv", "path": "camera.yaml", "response": "auto"}
+        if people is not None:  # the scene keeps the people and the points, so that the editor can add points
+            reference = {"format": "people", "path": "walkers.json", "response": "auto",
+                         "points": [[round(float(value), 4) for value in (*pixel, *metres)]
+                                    for pixel, metres in zip(fit.image_points, fit.ground_points, strict=True)]}
+        else:
+            write_opencv_yaml(camera, folder / "camera.yaml")
+            reference = {"format": "opencv", "path": "camera.yaml", "response": "auto"}
     priors, plan = Priors(), RegionPlanSpec()
     walkable = walkable_outline(camera, priors.height_m[0], plan.min_person_px)
     document = {"name": name or scene_name(folder), "image": "background.png"}
