@@ -15,7 +15,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from scene_factory import PEOPLE_TRUTH, write_people_scene
 
+from vc.calibration.from_people import camera_of, pose_of
 from vc.errors import InputError
 from vc.scenes import editor
 from vc.scenes.editor_server import serve
@@ -213,3 +215,53 @@ def test_vc_scene_edit_refuses_a_port_already_taken(pixel_scene, capsys):
         assert "--port: cannot serve on 127.0.0.1" in capsys.readouterr().err
     finally:
         taken.server_close()
+
+
+@pytest.fixture
+def people_scene(tmp_path) -> Path:
+    """A scene as vc-scene init VIDEO writes one: the camera solved from people (10 % low), the layout in pixels."""
+    return write_people_scene(tmp_path / "people", DEMO / "background.png",
+                              [[100, 300], [860, 300], [900, 520], [60, 520]])
+
+
+def _measured(pixels: list[list[float]]) -> list[dict]:
+    """Ground points at ``pixels`` with their positions through the true camera, as the page posts them."""
+    truth = camera_of((960, 540), *PEOPLE_TRUTH.values())
+    ground = truth.ground_from_pixels(np.array(pixels, float)).points[:, :2].round(3)
+    return [{"pixel": pixel, "x": float(x), "y": float(y), "source": None, "edited": True}
+            for pixel, (x, y) in zip(pixels, ground, strict=True)]
+
+
+def test_measured_ground_points_drawn_on_the_page_refine_a_camera_solved_from_people(people_scene):
+    state = editor.page_state(people_scene)
+    assert state["points"] == [] and state["points_refused"] is None
+    assert state["camera"]["height_m"] == pytest.approx(5.85, abs=0.01)
+    corners = [[150.0, 300.0], [820.0, 300.0], [200.0, 520.0], [760.0, 520.0]]
+    edit = {**_edit(state), "points": _measured(corners)}
+    state = editor.save(people_scene, edit)
+    calibration = yaml.safe_load(people_scene.read_text())["calibration"]
+    assert calibration["format"] == "people" and calibration["path"] == "walkers.json"
+    assert [row[:2] for row in calibration["points"]] == corners
+    # Four points spread over the view pull the people's camera (10 % low, 2 degrees shallow) to the true one.
+    assert state["camera"]["height_m"] == pytest.approx(6.5, rel=0.03)
+    assert pose_of(load_scene(people_scene).camera)["tilt_deg"] == pytest.approx(25.0, abs=0.5)
+    assert [point["pixel"] for point in state["points"]] == corners
+    # An edit that does not speak of points keeps them; one that removes them all drops the key.
+    assert "points" in yaml.safe_load(editor.edited_text(people_scene, _edit(state)))["calibration"]
+    editor.save(people_scene, {**_edit(state), "points": []})
+    assert "points" not in yaml.safe_load(people_scene.read_text())["calibration"]
+
+
+def test_ground_points_are_refused_by_name_where_they_cannot_refine_the_camera(people_scene, pixel_scene):
+    state = editor.page_state(pixel_scene)
+    assert "solved from people" in state["points_refused"]
+    before = pixel_scene.read_text()
+    with pytest.raises(InputError, match="calibration.points: ground points refine a camera solved from people"):
+        editor.save(pixel_scene, {**_edit(state), "points": _measured([[200.0, 350.0], [700.0, 330.0]])})
+    assert pixel_scene.read_text() == before
+    bad = _measured([[200.0, 350.0], [700.0, 330.0]])
+    bad[1]["x"] = "four"
+    with pytest.raises(InputError, match=r"calibration\.points\.1: a point needs its pixel and its ground x, y"):
+        editor.save(people_scene, {**_edit(editor.page_state(people_scene)), "points": bad})
+    with pytest.raises(InputError, match="calibration.points: needs at least 2 points, got 1"):
+        editor.save(people_scene, {**_edit(editor.page_state(people_scene)), "points": bad[:1]})

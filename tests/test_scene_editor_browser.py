@@ -1,5 +1,6 @@
 """vc-scene edit in a real browser: the system's Chromium, driven by Playwright, draws a walkable polygon, moves a
-vertex, adds an obstacle and saves; the YAML read back holds what was drawn. A bad edit shows the loader's message on
+vertex, adds an obstacle and saves; the YAML read back holds what was drawn. On a camera solved from people it adds
+measured ground points, which refine the camera. A bad edit shows the loader's message on
 the page and writes nothing. Any error the page raises fails the test."""
 
 from __future__ import annotations
@@ -12,8 +13,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from scene_factory import PEOPLE_TRUTH, write_people_scene
 
+from vc.calibration.from_people import camera_of, pose_of
 from vc.scenes.editor_server import serve
+from vc.scenes.loader import load_scene
 
 playwright = pytest.importorskip("playwright.sync_api", reason="Playwright is a dev dependency: make install")
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
@@ -37,6 +41,22 @@ def scene(tmp_path) -> Path:
 
 @pytest.fixture
 def page(scene):
+    yield from _page(scene)
+
+
+@pytest.fixture
+def people_scene(tmp_path) -> Path:
+    """A scene whose camera was solved from the people walking through its video (10 % low), as init writes it."""
+    return write_people_scene(tmp_path / "people", DEMO / "background.png", WALKABLE)
+
+
+@pytest.fixture
+def people_page(people_scene):
+    yield from _page(people_scene)
+
+
+def _page(scene: Path):
+    """The editor served for ``scene`` and open in Chromium; fails on any error the page raises."""
     server = serve(scene, port=0)
     threading.Thread(target=server.serve_forever, daemon=True).start()
     errors: list[str] = []
@@ -125,3 +145,27 @@ def test_figures_follow_the_mouse_with_their_height(page):
     page.mouse.move(*_screen(page, 480, 400))
     page.wait_for_selector("#figure-layer polyline")
     assert "1.5 m:" in page.inner_text("#ground") and "1.95 m:" in page.inner_text("#ground")
+
+
+def test_measured_ground_points_refine_the_people_s_camera_in_a_real_browser(people_page, people_scene):
+    truth = camera_of((960, 540), *PEOPLE_TRUTH.values())
+    corners = [[150.0, 300.0], [820.0, 300.0], [200.0, 520.0], [760.0, 520.0]]
+    measured = truth.ground_from_pixels(np.array(corners)).points[:, :2].round(2)
+    before = people_page.inner_text("#camera")
+    assert "5.85 m above the ground" in before
+    people_page.click("[data-tool=point]")
+    for (u, v), (x, y) in zip(corners, measured, strict=True):
+        _click(people_page, u, v)
+        people_page.fill("#prop-x", str(x))
+        people_page.press("#prop-x", "Enter")
+        people_page.fill("#prop-y", str(y))
+        people_page.press("#prop-y", "Enter")
+    assert people_page.locator("circle.ground-point").count() == 4
+    _saved(people_page)
+    assert "saved" in people_page.inner_text("#message") and people_page.errors == []
+    points = np.array(yaml.safe_load(people_scene.read_text())["calibration"]["points"])
+    assert points[:, :2] == pytest.approx(np.array(corners), abs=1.0)
+    assert points[:, 2:] == pytest.approx(measured, abs=1e-6)
+    pose = pose_of(load_scene(people_scene).camera)
+    assert pose["height_m"] == pytest.approx(6.5, rel=0.03) and pose["tilt_deg"] == pytest.approx(25.0, abs=0.5)
+    assert people_page.inner_text("#camera") != before  # the page shows the refined camera

@@ -8,16 +8,23 @@ statures where the mouse points; the user draws and moves the walkable polygons,
 a box by its footprint on the ground), walls (their foot line) and named zones. Everything on the page is in pixels;
 this module turns the scene into that (:func:`page_state`) and the page's edit back into the scene (:func:`save`).
 
+**Measured ground points.** Where the camera was solved from the people walking through the video (calibration
+format ``people``) and the layout is drawn in pixels, the user may also click ground features and type their
+measured positions (x, y in metres, in axes of their choice); they go to ``calibration.points`` and refine the camera
+(:mod:`vc.calibration.points_and_people`), and the page redraws the grid, horizon and plan through the refined one.
+A layout in metres would move with the camera, so there the page takes no points.
+
 **Which frame is written.** A scene drawn in pixels (``layout: {frame: image}``, what ``vc-scene init`` writes)
 keeps its pixels. A metric scene (``frame: ground``) is shown projected through its camera and written back in
 metres: an element the user changed is taken from its pixels onto the ground (:mod:`vc.scenes.pixel_layout`), one
 left alone is written exactly as it was (a projection there and back would move it by rounding). A metric element
 that cannot be shown (a point behind the camera) is listed, locked, and kept as it was.
 
-**What is written.** ``scene.yaml`` and nothing else, and only its ``layout`` and ``zones`` entries: the rest of the
-file keeps its text and comments (:func:`vc.scenes.loader.top_level_span`). The edited file is first written beside
-the scene and loaded by the same loader as ``vc-scene check``, with its region plan; a bad edit gets the loader's
-message, naming the field, and the scene file is not touched. A good one replaces it in one rename.
+**What is written.** ``scene.yaml`` and nothing else, and only its ``layout``, ``zones`` and ``calibration.points``
+entries: the rest of the file keeps its text and comments (:func:`vc.scenes.loader.top_level_span`). The edited file
+is first written beside the scene and loaded by the same loader as ``vc-scene check``, with its region plan; a bad
+edit gets the loader's message, naming the field, and the scene file is not touched. A good one replaces it in one
+rename.
 """
 
 from __future__ import annotations
@@ -186,16 +193,38 @@ def _region_entries(camera: Camera, regions: list[Region]) -> list[dict]:
     return entries
 
 
+def _points_refusal(spec, drawn_in_pixels: bool) -> str | None:
+    """Why the page cannot take measured ground points for this scene, or None when it can: they refine a camera
+    solved from people, and a layout in metres would move with the camera they change."""
+    if spec.calibration is None or spec.calibration.format != "people":
+        return "ground points refine a camera solved from people walking through a video (vc-scene init VIDEO)"
+    if not drawn_in_pixels:
+        return "ground points need the layout drawn in pixels (layout: {frame: image}): one in metres would move"
+    return None
+
+
+def _ground_points(spec) -> list[dict]:
+    """The scene's measured ground points as the page edits them: a pixel and its ground position."""
+    rows = (spec.calibration.points or []) if spec.calibration is not None else []
+    return [{"pixel": [u, v], "x": x, "y": y, "source": index} for index, (u, v, x, y) in enumerate(rows)]
+
+
+def _camera_entry(camera: Camera) -> dict:
+    return {"focal_px": round(float(camera.fx), 1), "height_m": round(float(camera.center[2]), 3)}
+
+
 def page_state(scene_path: Path) -> dict:
-    """Everything the page draws for the scene as it is saved: the image size, the layout and zones in pixels, the
-    statures, the grid, the horizon and the region plan."""
+    """Everything the page draws for the scene as it is saved: the image size, the layout, zones and measured ground
+    points in pixels, the statures, the grid, the horizon and the region plan."""
     scene = load_scene(scene_path)
+    spec = read_scene_file(Path(scene_path))
     camera = scene.camera
     return {"scene": scene.name, "path": str(scene.path), "size": list(camera.size),
             "frame": "image" if scene.drawn_layout is not None else "ground",
             "statures_m": [float(value) for value in scene.priors.height_m], **_elements(scene),
-            "grid": grid_lines(camera, scene.layout), "horizon": _pixels(camera.horizon_pixels()),
-            "regions": _region_entries(camera, plan_regions(scene))}
+            "points": _ground_points(spec), "points_refused": _points_refusal(spec, scene.drawn_layout is not None),
+            "camera": _camera_entry(camera), "grid": grid_lines(camera, scene.layout),
+            "horizon": _pixels(camera.horizon_pixels()), "regions": _region_entries(camera, plan_regions(scene))}
 
 
 # ------------------------------------------------------------------------------------------------- the edit back
@@ -276,6 +305,28 @@ def _edited_zones(edit: dict, original: list, camera: Camera, path: Path) -> lis
     return zones + [zone for index, zone in enumerate(original) if index not in shown]
 
 
+def _edited_calibration(edit: dict, spec, original: dict, path: Path) -> dict:
+    """The ``calibration`` entry with the page's measured ground points (``[u, v, x, y]`` rows; none: the key goes);
+    InputError naming the point for a value that is not a number, or for points where the scene takes none."""
+    if "points" not in edit:
+        return original
+    points = edit["points"]
+    if points and (refused := _points_refusal(spec, isinstance(spec.layout, PixelLayout))):
+        raise InputError(path, "calibration.points", refused)
+    rows = []
+    for index, element in enumerate(points):
+        try:
+            row = [float(value) for value in (*element.get("pixel", []), element.get("x"), element.get("y"))]
+        except (TypeError, ValueError):
+            row = []
+        if len(row) != 4 or not all(math.isfinite(value) for value in row):
+            raise InputError(path, f"calibration.points.{index}", "a point needs its pixel and its ground x, y in "
+                                                                  "metres, as numbers")
+        rows.append([round(value, 4) for value in row])
+    calibration = {key: value for key, value in original.items() if key != "points"}
+    return {**calibration, "points": rows} if rows else calibration
+
+
 def _flow_dump(key: str, value) -> str:
     """``key: value`` as a block YAML entry whose innermost lists are written in flow style, one point a line."""
     return yaml.safe_dump({key: value}, sort_keys=False, default_flow_style=None, width=120)
@@ -292,7 +343,11 @@ def edited_text(scene_path: Path, edit: dict) -> str:
     frame = "image" if isinstance(spec.layout, PixelLayout) else "ground"
     layout = _edited_layout(edit, document.get("layout") or {}, scene.camera, frame, scene_path)
     zones = _edited_zones(edit, document.get("zones") or [], scene.camera, scene_path)
-    for key, value in (("layout", layout), ("zones", zones)):
+    edited = [("layout", layout), ("zones", zones)]
+    calibration = _edited_calibration(edit, spec, document.get("calibration") or {}, scene_path)
+    if calibration:  # none: the camera is inline, and takes no points
+        edited.append(("calibration", calibration))
+    for key, value in edited:
         if value == (document.get(key) or ([] if key == "zones" else {})):
             continue  # unchanged: its text and comments stay as they are
         span = top_level_span(text, key)
@@ -341,6 +396,7 @@ def preview(scene_path: Path, edit: dict) -> dict:
     """The region plan and grid the edit would give, without writing anything (the page's "check")."""
     _, scene, regions = check(scene_path, edit)
     return {"regions": _region_entries(scene.camera, regions), "grid": grid_lines(scene.camera, scene.layout),
+            "horizon": _pixels(scene.camera.horizon_pixels()), "camera": _camera_entry(scene.camera),
             "walkable_area_m2": round(float(scene.layout.walkable_area().area), 2),
             "zones": [zone.name for zone in scene.zones]}
 

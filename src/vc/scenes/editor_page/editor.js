@@ -1,11 +1,11 @@
-// vc-scene edit: the scene's layout and zones drawn over its background, in the background's pixels.
+// vc-scene edit: the scene's layout, zones and measured ground points drawn over its background, in its pixels.
 // The server (vc/scenes/editor_server.py) projects everything through the camera; this page only draws and edits
 // pixels, and posts the edit back: "Check" plans the regions without writing, "Save" writes scene.yaml if the
 // scene's own loader accepts it, and shows the loader's message if not.
 "use strict";
 
 const SVG = "http://www.w3.org/2000/svg";
-const KINDS = ["walkable", "obstacles", "walls", "zones"];
+const KINDS = ["walkable", "obstacles", "walls", "zones", "points"];
 const DEFAULTS = {
   cylinder: { radius: 0.3, height: 1.0 },
   box: { height: 1.0, bottom: 0 },
@@ -16,8 +16,8 @@ const FIGURE_DELAY_MS = 60;
 
 const page = {
   state: null, // the server's page state
-  elements: { walkable: [], obstacles: [], walls: [], zones: [] },
-  removed: { walkable: [], obstacles: [], walls: [], zones: [] },
+  elements: { walkable: [], obstacles: [], walls: [], zones: [], points: [] },
+  removed: { walkable: [], obstacles: [], walls: [], zones: [], points: [] },
   tool: "select",
   draft: [],
   selected: null, // {kind, index}
@@ -78,13 +78,22 @@ function adopt(state) {
   view.setAttribute("height", height + 2 * margin);
   const background = $("background");
   for (const [key, value] of Object.entries({ x: -0.5, y: -0.5, width, height })) background.setAttribute(key, value);
-  $("horizon").setAttribute("points", pointsAttribute(state.horizon));
-  drawGrid(state.grid);
+  const pointTool = $("point-tool");
+  pointTool.disabled = Boolean(state.points_refused);
+  if (state.points_refused) pointTool.title = state.points_refused;
+  drawCamera(state);
   drawRegions(state.regions);
   const locked = $("locked");
   locked.replaceChildren(...state.locked.map((name) => Object.assign(document.createElement("li"), { textContent: name })));
   if (!state.locked.length) locked.appendChild(Object.assign(document.createElement("li"), { textContent: "nothing" }));
   render();
+}
+
+// the grid, the horizon and the camera's numbers: what measured points move
+function drawCamera({ grid, horizon, camera }) {
+  $("horizon").setAttribute("points", pointsAttribute(horizon));
+  drawGrid(grid);
+  $("camera").textContent = `focal ${camera.focal_px} px, ${camera.height_m} m above the ground`;
 }
 
 function drawGrid(grid) {
@@ -122,12 +131,14 @@ function drawRegions(regions) {
 function elementPoints(kind, element) {
   if (kind === "walkable" || kind === "zones") return element.points;
   if (kind === "walls") return [element.start, element.end];
+  if (kind === "points") return [element.pixel];
   return element.type === "cylinder" ? [element.base] : element.footprint;
 }
 
 function setElementPoint(kind, element, index, point) {
   if (kind === "walkable" || kind === "zones") element.points[index] = point;
   else if (kind === "walls") element[index === 0 ? "start" : "end"] = point;
+  else if (kind === "points") element.pixel = point;
   else if (element.type === "cylinder") element.base = point;
   else element.footprint[index] = point;
 }
@@ -143,6 +154,10 @@ function render() {
       let shape;
       if (kind === "walls") {
         shape = svgElement("polyline", { ...common, class: "wall", points: pointsAttribute(points) }, layer);
+      } else if (kind === "points") {
+        const [u, v] = points[0];
+        shape = svgElement("circle", { ...common, class: "ground-point", cx: u, cy: v, r: 5 }, layer);
+        svgElement("text", { class: "label", x: u + 7, y: v + 14 }, layer).textContent = `(${element.x}, ${element.y}) m`;
       } else if (kind === "obstacles" && element.type === "cylinder") {
         shape = svgElement("circle", { ...common, class: "obstacle", cx: points[0][0], cy: points[0][1], r: 6 }, layer);
       } else {
@@ -181,11 +196,12 @@ function showProperties() {
   if (!page.selected) return;
   const { kind, index } = page.selected;
   const element = page.elements[kind][index];
-  const names = kind === "walkable" ? [] : kind === "zones" ? ["name"]
+  const names = kind === "walkable" ? [] : kind === "zones" ? ["name"] : kind === "points" ? ["x", "y"]
     : kind === "walls" ? ["name", "height", "thickness"]
     : element.type === "cylinder" ? ["name", "radius", "height"] : ["name", "height", "bottom"];
   const title = document.createElement("p");
-  title.textContent = kind === "obstacles" ? `obstacle (${element.type})` : kind.replace(/s$/, "");
+  title.textContent = kind === "obstacles" ? `obstacle (${element.type})`
+    : kind === "points" ? "ground point: where it is, measured" : kind.replace(/s$/, "");
   if (element.clipped) title.textContent += ": the part the camera sees";
   fields.appendChild(title);
   for (const name of names) {
@@ -194,7 +210,7 @@ function showProperties() {
     const input = document.createElement("input");
     input.id = `prop-${name}`;
     input.type = name === "name" ? "text" : "number";
-    if (name !== "name") input.step = "0.05";
+    if (name !== "name") input.step = kind === "points" ? "0.01" : "0.05";
     input.value = element[name] ?? "";
     input.addEventListener("change", () => {
       if (name === "name") {
@@ -265,6 +281,10 @@ function onClick(event) {
   }
   if (page.tool === "cylinder") {
     add("obstacles", { type: "cylinder", base: pixel, ...DEFAULTS.cylinder, source: null });
+    return;
+  }
+  if (page.tool === "point") {
+    add("points", { pixel, x: 0, y: 0, source: null });
     return;
   }
   page.draft.push(pixel);
@@ -347,7 +367,7 @@ async function check() {
   try {
     const answer = await request("POST", "api/check", edit());
     drawRegions(answer.regions);
-    drawGrid(answer.grid);
+    drawCamera(answer);
     say(`the scene loads: walkable ${answer.walkable_area_m2} m², ${answer.regions.length} regions` +
         (answer.zones.length ? `, zones ${answer.zones.join(", ")}` : "") + " (not saved)", "ok");
   } catch (error) {
