@@ -280,6 +280,6 @@ def make_starter_scene(source: Path, folder: Path, points: Path | None = None, c
               "# walls that hide people. Check overlay.png: the figures must stand on the ground at people's size.\n"
               "# Say who walks there under priors: (docs/scenes.md), e.g. priors: {clothing: winter,\n"
               "# m2_per_person: 10} for coats on a busy pavement.\n")
-    scene_path.write_text(header + yaml.safe_dump(document, sort_keys=False, width=120))
+    scene_path.write_text(header + yaml.safe_dump(document, sort_keys=False, width=120, default_flow_style=None))
     return StarterScene(scene_path, folder / "background.png", camera, source_text, fit, walkable, points_path,
                         median, people, people_unused)
