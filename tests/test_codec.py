@@ -540,3 +540,41 @@ def test_several_peoples_pairs_are_exchanged_each_by_their_own_flags() -> None:
     together = swap_pairs(keypoints, flags)
     for person in range(4):
         assert np.array_equal(together[person], swap_pairs(keypoints[person], flags[person]))
+
+
+def _sliver_at_the_edge(side: str) -> np.ndarray:
+    """Heat maps of a person the map's ``side`` edge cuts to a sliver two cells wide: a centre peak in the edge
+    column and mask cells over their height in the two columns there."""
+    heatmaps = np.zeros((HEATMAP_CHANNELS, HEIGHT // STRIDE, WIDTH // STRIDE), np.float32)
+    columns = [0, 1] if side == "left" else [WIDTH // STRIDE - 2, WIDTH // STRIDE - 1]
+    edge = columns[0] if side == "left" else columns[1]
+    heatmaps[CENTRE_CHANNEL, 24, edge] = 0.8
+    heatmaps[MASK_CHANNEL, 12:37, columns[0]:columns[1] + 1] = 1.0
+    return heatmaps
+
+
+@pytest.mark.parametrize("side", ["left", "right"])
+def test_a_person_the_edge_cuts_is_boxed_by_their_mask_and_the_narrowest_width_reaches_beyond_the_edge(side):
+    """The frame cuts a person walking in to a sliver: the box's inner side is their mask's (plus the margin), and
+    the narrowest width a person's box has lies beyond the edge (a runtime clips it there), not around the centre
+    peak, which would reach a box width into the frame and miss the sliver (decision 0031)."""
+    config = DecodeConfig(stride=STRIDE)
+    heatmaps = _sliver_at_the_edge(side)
+    [person] = decode(heatmaps, config, np.full(heatmaps.shape[1:], 100.0))
+    x0, _, x1, _ = person.box
+    margin = config.side_margin * 100.0
+    assert x1 - x0 >= config.min_width * 100.0 - 1e-9
+    if side == "right":
+        assert x0 == pytest.approx(cells_to_input(WIDTH // STRIDE - 2 - 0.5, STRIDE) - margin)
+        assert x1 > WIDTH
+    else:
+        assert x1 == pytest.approx(cells_to_input(1 + 0.5, STRIDE) + margin)
+        assert x0 < 0
+
+
+def test_a_person_the_edges_do_not_cut_keeps_the_narrowest_width_around_the_centre():
+    heatmaps = np.zeros((HEATMAP_CHANNELS, HEIGHT // STRIDE, WIDTH // STRIDE), np.float32)
+    heatmaps[CENTRE_CHANNEL, 24, 32] = 0.8
+    [alone] = decode(heatmaps, DecodeConfig(stride=STRIDE), np.full(heatmaps.shape[1:], 100.0))
+    centre = cells_to_input(32, STRIDE)
+    np.testing.assert_allclose(alone.box[[0, 2]], [centre - 12.5, centre + 12.5])
