@@ -182,15 +182,6 @@ def test_a_person_the_frame_cuts_is_boxed_as_the_camera_shows_them() -> None:
     assert within_frame(_person_at("r0", 0.8, inside), (640, 480)).box.tolist() == inside
 
 
-def test_feet_beyond_the_frame_are_owned_where_the_frame_cuts_them() -> None:
-    """A person the bottom edge cuts has a decoded box (and feet) below the frame, one walking in at a side may
-    have them beside it: the ownership test reads them at the frame's edge, where owned areas end."""
-    from vc.deploy.runtime import feet_in_frame
-
-    feet = np.array([[320.0, 530.0], [-14.0, 300.0], [660.0, -3.0], [100.0, 200.0]])
-    assert feet_in_frame(feet, (640, 480)).tolist() == [[320.0, 479.0], [0.0, 300.0], [639.0, 0.0], [100.0, 200.0]]
-
-
 def test_at_a_seam_the_owning_regions_person_wins_over_one_kept_across_it() -> None:
     """The region that kept a person across its seam gives way to the region whose area the feet are in, even
     when its score is higher; the people come back strongest first."""

@@ -2,10 +2,11 @@
 it was against its box laid beyond the edge that cuts a person, and feet beyond the frame owned, on both cameras'
 choosing and confirming halves, three compile seeds (frozen experiment).
 
+    git checkout b2a5fbf   # the commit that carried both changes (not kept, and taken out after it)
     cd experiments/2026-11-30-cut-box && PYTHONPATH=../.. python cut_box.py tud B0 B1 B2 -o results/tud
     cd experiments/2026-11-30-cut-box && PYTHONPATH=../.. python cut_box.py pets B0 B1 B2 -o results/pets
 
-Variants (:data:`VARIANTS`), all decoded by the numpy decoder (the C decoder decodes the same,
+Variants (:data:`VARIANTS`), all decoded by the numpy decoder (at b2a5fbf the C decoder decoded the same,
 tests/hard_cases/test_native_decode.py):
 
 * ``before``: the box's narrowest width around the centre whatever cuts the person, and feet beyond the frame no
@@ -14,7 +15,7 @@ tests/hard_cases/test_native_decode.py):
   (``vc.deploy.runtime.feet_in_frame``);
 * ``edge_box``: ``before``, with the narrowest width laid beyond the map's side edge that a person's mask reaches
   (``vc.deploy.decode._boxes``, step 4);
-* ``both``: the two changes: today's runtime.
+* ``both``: the two changes.
 
 Writes ``VARIANT/seedS_HALF.json`` per run (AP50 tracked and each frame, recall by the frame's edge, by size and
 by overlap, precision); a finished file is not run again. The cameras and halves are

@@ -168,20 +168,6 @@ def test_a_crowd_of_people_on_a_camera_is_decoded_alike():
                for _ in range(20)) > 100
 
 
-def test_people_the_map_s_side_edges_cut_are_boxed_alike():
-    """People on a narrow map, many cut by its left or right edge: both decoders lay their narrowest box beyond
-    the edge that cuts them (decision 0031)."""
-    rng = np.random.default_rng(3)
-    heights = np.full((30, 16), 40.0, np.float32)
-    cut = 0
-    for _ in range(20):
-        maps = blobs(rng, LAYOUTS[-1], 30, 16, 6)
-        assert_same(maps, DecodeConfig(), heights)
-        cut += sum(person.mask_cells[:, 0].any() != person.mask_cells[:, -1].any()
-                   for person in decode(maps, DecodeConfig(), heights))
-    assert cut >= 3  # the path is taken (4 people with this seed)
-
-
 def test_the_library_loaded_is_the_one_named():
     """Under tests/test_native_sanitizers.py the sanitized build is the one these tests run."""
     named = os.environ.get(native.LIBRARY_VARIABLE)

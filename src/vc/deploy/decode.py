@@ -24,9 +24,7 @@
 4. The box is scene-specific: its top and bottom are the person's own head and feet where their keypoints are
    confident and agree with the expected height of a person at that image position (the region's camera knows
    it; ``expected_height_px``), else that expected height centred on the centre peak (the point half the stature
-   above the feet); its width spans the person's confident keypoints and mask cells. A box is at least
-   ``min_width`` wide, around the centre; for a person whose mask reaches one side edge of the map, beyond that
-   edge: the frame cuts them there, and what it shows of them is their mask (a runtime clips the box to the frame).
+   above the feet); its width spans the person's confident keypoints and mask cells.
 
 Coordinates are network-input pixels (pixel centres at integers) unless named ``*_cells``.
 """
@@ -373,7 +371,7 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     owned = (np.where(strong[:, None], owner_among_strong[None], owner[None])
              == np.arange(len(peaks))[:, None]) & within_reach
     centres = cells_to_input(centres_cells, stride)
-    boxes = _boxes(centres, heights_px, keypoints, owned, mask_columns, width, config, prior)
+    boxes = _boxes(centres, heights_px, keypoints, owned, mask_columns, config, prior)
     people = []
     for index, (score, _) in enumerate(peaks):
         mask_cells = np.zeros((height, width), bool)
@@ -638,8 +636,7 @@ ANKLE_KEYPOINTS = np.array([COCO_KEYPOINTS.index(name) for name in ("left_ankle"
 
 
 def _boxes(centres: np.ndarray, heights_px: np.ndarray, keypoints: np.ndarray, owned: np.ndarray,
-           mask_columns: np.ndarray, width: int, config: DecodeConfig,
-           prior: UprightPrior = UPRIGHT_PRIOR) -> np.ndarray:
+           mask_columns: np.ndarray, config: DecodeConfig, prior: UprightPrior = UPRIGHT_PRIOR) -> np.ndarray:
     """(N, 4) boxes of the N people at ``centres`` (input px) with expected ``heights_px``, ``keypoints`` (N, 17, 3)
     and ``owned`` (N, M) of the M foreground cells in ``mask_columns`` (see module docstring, step 4; all people at
     once). Top and bottom from the highest confident head keypoint and the lowest confident ankle: on the upright
@@ -647,8 +644,7 @@ def _boxes(centres: np.ndarray, heights_px: np.ndarray, keypoints: np.ndarray, o
     of their offsets, and the head's top and the soles lie half a height from the centre; without both, and where
     that height is more than ``keypoint_height_range`` times off the expected one (a neighbour's ankle), the
     expected height centred on the centre. The width spans the confident keypoints and the mask cells within reach
-    sideways, plus a margin, and is at least ``min_width``: around the centre, or beyond the side edge of the map
-    (``width`` cells) that a person's mask reaches, and not the other (the frame cuts them there)."""
+    sideways, plus a margin, and is at least ``min_width``."""
     count = len(centres)
     x, y = keypoints[..., 0], keypoints[..., 1]
     confident = keypoints[..., 2] >= config.keypoint_threshold  # (N, 17)
@@ -656,21 +652,16 @@ def _boxes(centres: np.ndarray, heights_px: np.ndarray, keypoints: np.ndarray, o
     lowest = np.where(spanning, x, np.inf).min(axis=1)
     highest = np.where(spanning, x, -np.inf).max(axis=1)
     has_mask = owned.any(axis=1)
-    cut_left, cut_right = np.zeros(count, bool), np.zeros(count, bool)
     if has_mask.any():
         first_column = np.where(owned, mask_columns[None], np.iinfo(np.int64).max).min(axis=1)
         last_column = np.where(owned, mask_columns[None], -1).max(axis=1)
         lowest = np.where(has_mask, np.minimum(lowest, cells_to_input(first_column - 0.5, config.stride)), lowest)
         highest = np.where(has_mask, np.maximum(highest, cells_to_input(last_column + 0.5, config.stride)), highest)
-        cut_left = (first_column == 0) & (last_column < width - 1)
-        cut_right = (last_column == width - 1) & (first_column > 0)
     spanned = np.isfinite(lowest)  # without keypoints or mask the box is the narrowest one around the centre
     lowest, highest = np.where(spanned, lowest, centres[:, 0]), np.where(spanned, highest, centres[:, 0])
     margin, half_min = config.side_margin * heights_px, config.min_width * heights_px / 2
-    left, right = centres[:, 0] - lowest + margin, highest - centres[:, 0] + margin
-    # The narrowest box: around the centre, or reaching beyond the edge that cuts the person.
-    left, right = (np.where(cut_right, left, np.maximum(left, np.where(cut_left, 2 * half_min - right, half_min))),
-                   np.where(cut_left, right, np.maximum(right, np.where(cut_right, 2 * half_min - left, half_min))))
+    left = np.maximum(centres[:, 0] - lowest + margin, half_min)
+    right = np.maximum(highest - centres[:, 0] + margin, half_min)
 
     top, bottom = centres[:, 1] - heights_px / 2, centres[:, 1] + heights_px / 2
     heads = confident[:, HEAD_KEYPOINTS]

@@ -145,14 +145,6 @@ class Person:
         return self.handedness if self.network_handedness is None else self.network_handedness
 
 
-def feet_in_frame(feet: np.ndarray, frame_size: tuple[int, int]) -> np.ndarray:
-    """Foot points (N, 2), frame pixels, moved onto the frame of ``frame_size`` (width, height) where they lie
-    beyond it: a person the frame cuts, walking in at a side or standing below its bottom edge, belongs to the region
-    that owns the ground at that edge (owned areas end at the frame, docs/decisions/0031-centres-beyond-the-edge.md)."""
-    width, height = frame_size
-    return np.minimum(np.maximum(feet, 0.0), [width - 1.0, height - 1.0])
-
-
 def just_across_seam(feet: np.ndarray, heights: np.ndarray, area: ImageArea,
                      neighbour_areas: tuple[ImageArea, ...], tolerance: float = SEAM_FOOT_TOLERANCE) -> np.ndarray:
     """Which of the people with these foot points (N, 2) and box heights (N,), frame pixels, a region with owned
@@ -234,7 +226,7 @@ class RegionRunner:
         if not decoded:
             return []
         boxes = self.to_frame(np.array([person.box for person in decoded]).reshape(-1, 2)).reshape(-1, 4)
-        feet = feet_in_frame(foot_points(boxes), self.frame_size)
+        feet = foot_points(boxes)
         inside = self.owned_area.contains(feet)
         # only the people outside the region's own area can be across a seam (usually none: no further tests)
         across, outside = np.zeros(len(feet), bool), np.flatnonzero(~inside)

@@ -573,7 +573,7 @@ static void own_keypoints(const frame *f, double x, double y, double height_cell
 /* ---- step 4: the box (decode.py's _boxes, one person) ---- */
 
 static void person_box(const vc_decode_config *config, const double *centre, double height_px, const double *keypoints,
-                       int64_t first_column, int64_t last_column, int has_mask, int width, double *box) {
+                       int64_t first_column, int64_t last_column, int has_mask, double *box) {
     double lowest = INFINITY, highest = -INFINITY;
     int confident[VC_KEYPOINTS];
     for (int k = 0; k < VC_KEYPOINTS; ++k) {
@@ -593,13 +593,8 @@ static void person_box(const vc_decode_config *config, const double *centre, dou
     if (!isfinite(lowest)) lowest = centre[0], highest = centre[0];
     double margin = config->side_margin * height_px, half_min = config->min_width * height_px / 2;
     double left = centre[0] - lowest + margin, right = highest - centre[0] + margin;
-    /* the narrowest box: around the centre, or reaching beyond the map's side edge that cuts the person */
-    int cut_left = has_mask && first_column == 0 && last_column < width - 1;
-    int cut_right = has_mask && last_column == width - 1 && first_column > 0;
-    double left_floor = cut_left ? 2 * half_min - right : half_min, right_floor = cut_right ? 2 * half_min - left
-                                                                                          : half_min;
-    if (!cut_right) left = left >= left_floor ? left : left_floor;
-    if (!cut_left) right = right >= right_floor ? right : right_floor;
+    left = left >= half_min ? left : half_min;
+    right = right >= half_min ? right : half_min;
     double top = centre[1] - height_px / 2, bottom = centre[1] + height_px / 2;
     double heads[5], ankles[2];
     int any_head = 0, any_ankle = 0;
@@ -857,7 +852,7 @@ int vc_decode(const float *heatmaps, int channels, int height, int width, const 
         person->centre[1] = cells_to_input(y[i], stride);
         memcpy(person->keypoints, keypoints + (size_t)i * VC_KEYPOINTS * 3, VC_KEYPOINTS * 3 * sizeof(double));
         person_box(config, person->centre, heights_px[i], &person->keypoints[0][0], first_column[i],
-                   last_column[i], last_column[i] >= 0, width, person->box);
+                   last_column[i], last_column[i] >= 0, person->box);
         person->weak = !strong[i];
     }
     *count = n;
