@@ -37,6 +37,8 @@ _OFFSET_UNIT: list[float | None] = [None]
 #: With a unit (cells), the fine map's first channel is each person's log height in it (``anchors.py --size-unit``).
 _SIZE_UNIT: list[float | None] = [None]
 SIZE_CHANNEL = FINE_CENTRE_CHANNELS.start
+#: The size map's box only where the decoder's box height differs from it by more than this share (None: always).
+_SIZE_AGREEMENT: list[float | None] = [None]
 #: Whether step 1b's votes may add people (``install(..., voted_people=False)``: they only move peaks).
 _NO_VOTED_PEOPLE = [False]
 
@@ -64,6 +66,9 @@ def _sized(person, stride: int):
     height = _state.sizes.get(tuple(np.round(person.centre, 3)))
     if height is None:
         return person
+    decoded = person.box[3] - person.box[1]
+    if _SIZE_AGREEMENT[0] is not None and abs(np.log(decoded / height)) <= np.log1p(_SIZE_AGREEMENT[0]):
+        return person  # the decoder's box (its own head and ankles) agrees with the size: it is the finer
     box = person.box.copy()
     box[1], box[3] = person.centre[1] - height / 2, person.centre[1] + height / 2
     return dataclasses.replace(person, box=box)
@@ -151,19 +156,22 @@ def anchored():
 
 
 def install(shapes: set[tuple[int, int]] | None = None, separation: float | None = None,
-            offset_unit: float | None = None, size_unit: float | None = None, voted_people: bool = True) -> None:
+            offset_unit: float | None = None, size_unit: float | None = None, voted_people: bool = True,
+            size_agreement: float | None = None) -> None:
     """Decode heat maps of these (h, w) shapes (None: every one; see also :func:`anchored`) as an anchored
     network's (its peaks at the visible centroid or the head), peaks closer than ``separation`` heights (None: the
     config's) one person's, its offsets in ``offset_unit`` cells (None: in heights), its boxes' heights from its size
     map in ``size_unit`` cells (None: the decoder's; with it, peaks are separated in those heights, by nothing unless
     ``separation`` says), and without
-    ``voted_people`` step 1b adds nobody (every decoding, anchored or not)."""
+    ``voted_people`` step 1b adds nobody (every decoding, anchored or not); with ``size_agreement`` the decoder's box
+    stays where its height is within that share of the size map's."""
     global _VISIBLE_SHAPES
     _VISIBLE_SHAPES = shapes
     _SEPARATION[0] = separation
     _OFFSET_UNIT[0] = offset_unit
     _SIZE_UNIT[0] = size_unit
     _NO_VOTED_PEOPLE[0] = not voted_people
+    _SIZE_AGREEMENT[0] = size_agreement
     decoding.find_peaks = _find_peaks
     decoding._separated = _separated
     decoding.decode = runtime.decode = held_out.decode = decode
