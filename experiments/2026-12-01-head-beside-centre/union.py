@@ -14,9 +14,7 @@ Writes ``results/ARM/seedSEED_HALF.json`` for both halves of TUD-Stadtmitte, as 
 from __future__ import annotations
 
 import argparse
-import json
 import sys
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -95,17 +93,10 @@ def main() -> None:
     if args.same_head is not None:
         seam_rule = runtime.without_seam_duplicates
         runtime.without_seam_duplicates = lambda people: without_added_same_heads(seam_rule(people), args.same_head)
-    for half in args.halves:
-        path = args.out / args.arm / f"seed{args.seed}_{half}.json"
-        if path.exists():
-            continue
-        with tempfile.TemporaryDirectory() as scratch:
-            result = crowd_measure.measure(args.control, crowd_measure.TUD["halves"][half], Path(scratch))
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(json.dumps(result, indent=1) + "\n")
-        print(f"{args.arm} seed {args.seed} {half}: tracked {result['ap50_tracked']:.4f} each frame "
-              f"{result['ap50_each_frame']:.4f} groups {result['recall_by_group']}", flush=True)
-
+    # the crowd experiment's loop, its bundle for seed S being the control
+    sys.argv[1:] = [args.arm, *[str(args.control)] * (args.seed + 1), "-o", str(args.out), "--seeds", str(args.seed),
+                    "--halves", *args.halves]
+    crowd_measure.main()
 
 if __name__ == "__main__":
     main()
