@@ -22,6 +22,10 @@ ARMS = {
     "– and one head, one person (0.2)": HERE / "results" / "union_samehead0.2",
     "one network, head and size maps beside the centre map, decoded as shipped": HERE / "results" / "both_centre_only",
     "– its head map's people it lacks, one head one person (0.1)": HERE / "results" / "both_samehead0.1",
+    "the same network, the head map and the fine maps kept weighing as today's fine map, decoded as shipped":
+        HERE / "results" / "budget_centre_only",
+    "– its head map's people it lacks at that weight, one head one person (0.1)":
+        HERE / "results" / "budget_samehead0.1",
 }
 HALVES = ("choosing", "confirming")
 
