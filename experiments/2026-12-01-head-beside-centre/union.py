@@ -8,7 +8,8 @@ head-anchored network with offsets and a size map in 20 cells, runs on the same 
 overlaps every one of today's r0 people by less than IoU T are added), and then, after the runtime's seam rule, an
 added person whose head (box top middle) lies within D of a person's height of any other reported person's head is
 dropped: one head, one person. Without ``--same-head`` no added person is dropped (``second_look.py``'s arm).
-Writes ``results/ARM/seedSEED_HALF.json`` for both halves of TUD-Stadtmitte, as ``measure.py`` there measures.
+Writes ``results/ARM/seedSEED_HALF.json`` for each half asked (both by default) of TUD-Stadtmitte, as
+``measure.py`` there measures.
 """
 
 from __future__ import annotations
@@ -97,6 +98,7 @@ def main() -> None:
     sys.argv[1:] = [args.arm, *[str(args.control)] * (args.seed + 1), "-o", str(args.out), "--seeds", str(args.seed),
                     "--halves", *args.halves]
     crowd_measure.main()
+
 
 if __name__ == "__main__":
     main()
