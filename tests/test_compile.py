@@ -94,6 +94,15 @@ def test_a_budget_is_a_preset_and_set_changes_one_field():
     assert compile_cli.config_from(parser.parse_args(["s.yaml", "-o", "o"])) == PRESETS["standard"]
 
 
+def test_a_compile_choosing_its_precision_without_held_out_renders_is_refused_naming_the_field(tmp_path, capsys):
+    # the default budgets choose the precision on held-out renders (auto): none to measure on is bad input
+    output = tmp_path / "out"
+    assert compile_cli.main(["s.yaml", "-o", str(output), "--set", "export.eval_samples=0"]) == 2
+    error = capsys.readouterr().err.strip()
+    assert error.count("\n") == 0 and "export.eval_samples" in error and "precision auto" in error
+    assert not output.exists()
+
+
 def test_the_offsets_weight_reaches_the_loss_and_only_with_the_offsets():
     from vc.stages.config import TrainSettings
     weighed = TrainSettings(centre_offsets=True, centre_offset_weight=0.3, centre_sigma=0.05).train_config()

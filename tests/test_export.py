@@ -287,6 +287,14 @@ def test_int8_without_the_training_dataset_is_refused(trained_run, tmp_path, cap
     assert not (tmp_path / "bundle").exists()
 
 
+def test_auto_precision_without_held_out_renders_is_one_line_naming_the_field(trained_run, tmp_path, capsys):
+    assert vc_export([str(trained_run), "-o", str(tmp_path / "bundle"), "--precision", "auto",
+                      "--eval-samples", "0"]) == 2
+    error = capsys.readouterr().err.strip()
+    assert error.count("\n") == 0 and "export.eval_samples" in error and "precision auto" in error
+    assert not (tmp_path / "bundle").exists()
+
+
 def test_export_into_an_impossible_folder_is_an_input_error(trained_run, tmp_path, capsys):
     (tmp_path / "file").write_text("")
     assert vc_export([str(trained_run), "-o", str(tmp_path / "file" / "bundle"), "--eval-samples", "0"]) == 2

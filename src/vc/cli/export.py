@@ -26,7 +26,7 @@ from vc import __version__
 from vc.cli.common import handles_input_errors, non_negative_int, positive_int
 from vc.model.precision import PRECISIONS
 from vc.scenes.loader import load_scene
-from vc.stages.config import ExportSettings
+from vc.stages.config import ExportSettings, export_settings
 from vc.stages.export import ExportResult, export
 
 
@@ -106,8 +106,8 @@ def report_result(result: ExportResult, output: Path) -> None:
 @handles_input_errors
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
-    settings = ExportSettings(precision=args.precision, eval_samples=args.eval_samples,
-                              calibration_samples=args.calibration_samples)
+    settings = export_settings(precision=args.precision, eval_samples=args.eval_samples,
+                               calibration_samples=args.calibration_samples)
     scene = load_scene(args.scene) if args.scene is not None else None
     report_result(export(args.run, args.output, settings, args.zip, args.sign, show_progress=not args.quiet,
                          scene=scene), args.output)

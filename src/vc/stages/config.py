@@ -130,6 +130,14 @@ class ExportSettings(_Section):
     eval_samples: int = Field(200, ge=0, description="held-out renders per region each precision is measured on")
     calibration_samples: int = Field(64, ge=1, description="training renders per region that calibrate int8")
 
+    @field_validator("eval_samples")
+    @classmethod
+    def _auto_needs_samples(cls, samples: int, info: ValidationInfo) -> int:
+        if samples == 0 and info.data.get("precision") == "auto":
+            raise ValueError("precision auto chooses by measuring each precision on held-out renders: give at least "
+                             "1, or name the precision (fp32, fp16 or int8)")
+        return samples
+
 
 class SelfTestSettings(_Section):
     """The bundle on full frames composed of held-out renders on the background."""
@@ -196,6 +204,12 @@ def train_settings(**fields: object) -> TrainSettings:
     """:class:`TrainSettings` from a command line's options; a bad value raises :class:`InputError` naming its
     field (``train.<field>``)."""
     return _validated(fields, None, "train.", TrainSettings)
+
+
+def export_settings(**fields: object) -> ExportSettings:
+    """:class:`ExportSettings` from a command line's options; a bad value raises :class:`InputError` naming its
+    field (``export.<field>``)."""
+    return _validated(fields, None, "export.", ExportSettings)
 
 
 def read_config(path: Path) -> CompileConfig:
