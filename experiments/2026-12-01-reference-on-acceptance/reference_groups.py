@@ -14,6 +14,7 @@ import argparse
 import json
 import tempfile
 from pathlib import Path
+from unittest import mock
 
 import vc.evaluation.real_video as real_video
 from vc.deploy.frames import FrameRange
@@ -33,38 +34,32 @@ CAMERAS = {
 }
 
 
+def reference_on(camera: dict, half: str, bundle: Path) -> dict:
+    """The reference's AP50 and miss analysis on one half of ``camera``."""
+    selection = FrameRange.parse(camera["halves"][half])
+    with tempfile.TemporaryDirectory() as scratch, \
+            mock.patch.object(real_video, "_pose_agreements", wraps=real_video._pose_agreements) as agreements:
+        request = EvaluationRequest(bundle=bundle, video=camera["video"], ground_truth=camera["gt"],
+                                    output=Path(scratch), frames=selection, hog=False, threads=2,
+                                    externals=(ExternalModel(YOLO, NAME),), fps=camera["fps"])
+        report = evaluate_bundle(request, show_progress=False)
+    images = agreements.call_args.args[0][NAME].images  # every detector's per-frame results, as vc-eval holds them
+    misses = analyse_misses(images, list(range(selection.first, selection.last + 1, selection.step)), None,
+                            AnnotatedArea.of(read_mot_boxes(camera["gt"])), camera["frame_size"])
+    return {"frames": camera["halves"][half], "ap50": report.metrics["detectors"][NAME]["ap50"],
+            "recall_by_group": misses.recall_by_group(), "recall_by_height": misses.recall_by_height(),
+            "recall_by_edge": misses.recall_by_edge(), "recall": misses.recall, "precision": misses.precision}
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("camera", choices=tuple(CAMERAS))
     parser.add_argument("bundle", type=Path)
     parser.add_argument("-o", "--out", type=Path, required=True)
     args = parser.parse_args()
-    camera = CAMERAS[args.camera]
-    captured = {}
-    original = real_video._pose_agreements
-
-    def keep_records(records, names):
-        captured["records"] = records
-        return original(records, names)
-
-    real_video._pose_agreements = keep_records
-    truth = read_mot_boxes(camera["gt"])
-    results = {}
-    for half, frames in camera["halves"].items():
-        selection = FrameRange.parse(frames)
-        with tempfile.TemporaryDirectory() as scratch:
-            request = EvaluationRequest(bundle=args.bundle, video=camera["video"], ground_truth=camera["gt"],
-                                        output=Path(scratch), frames=selection, hog=False, threads=2,
-                                        externals=(ExternalModel(YOLO, NAME),), fps=camera["fps"])
-            report = evaluate_bundle(request, show_progress=False)
-        scored = list(range(selection.first, selection.last + 1, selection.step))
-        misses = analyse_misses(captured["records"][NAME].images, scored, None, AnnotatedArea.of(truth),
-                                camera["frame_size"])
-        results[half] = {"frames": frames, "ap50": report.metrics["detectors"][NAME]["ap50"],
-                         "recall_by_group": misses.recall_by_group(), "recall_by_height": misses.recall_by_height(),
-                         "recall_by_edge": misses.recall_by_edge(), "recall": misses.recall,
-                         "precision": misses.precision}
-        print(half, json.dumps(results[half]), flush=True)
+    results = {half: reference_on(CAMERAS[args.camera], half, args.bundle) for half in CAMERAS[args.camera]["halves"]}
+    for half, figures in results.items():
+        print(half, json.dumps(figures))
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(json.dumps(results, indent=1) + "\n")
 

@@ -26,11 +26,11 @@ FIGURES = {"AP50 tracked": lambda d: d["ap50_tracked"], "AP50 each frame": lambd
 
 
 def main() -> None:
-    for name, key in FIGURES.items():
-        print(f"\n{name}, seeds 0 / 1 / 2 (mean)\n")
-        print("| arm | choosing (1–90) | confirming (91–179) |\n|---|---|---|")
+    for half in HALVES:
+        print(f"\n{half} half, seeds 0 / 1 / 2 (mean)\n")
+        print("| arm | " + " | ".join(FIGURES) + " |\n|---|" + "---|" * len(FIGURES))
         for arm, folder in ARMS.items():
-            print(f"| {arm} | " + " | ".join(cell(folder, half, key) for half in HALVES) + " |")
+            print(f"| {arm} | " + " | ".join(cell(folder, half, key) for key in FIGURES.values()) + " |")
 
 
 if __name__ == "__main__":

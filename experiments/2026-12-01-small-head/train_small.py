@@ -1,10 +1,11 @@
 """A head network narrower than today's r0, to run beside it (frozen experiment, issue 57 item 2).
 
-    PYTHONPATH=../.. python train_small.py RUN RENDERS r0 -o OUT --width W
+    PYTHONPATH=../.. python train_small.py RUN RENDERS OUT --width W
 
 Trains r0's head network exactly as ``../2026-12-01-visible-anchor/anchors.py train ... --anchor head
 --centre-sigma 0.05 --offset-unit 20 --size-unit 20`` does (decision 0035's network, the one 0036's union adds), with
-the network ``W`` channels wide instead of RUN's (32). Writes OUT/checkpoints/r0.pt.
+the network ``W`` channels wide instead of RUN's (32). Writes OUT/checkpoints/r0.pt. (Run as measured:
+``train_small.py RUN RENDERS r0 -o OUT --width 16``, the same training.)
 """
 
 from __future__ import annotations
@@ -36,14 +37,13 @@ def narrowed(load, width: int):
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("run", type=Path)
-    parser.add_argument("renders", type=Path)
-    parser.add_argument("region")
-    parser.add_argument("-o", "--out", type=Path, required=True)
-    parser.add_argument("--width", type=int, required=True)
+    for name, help_text in (("run", "a compile's run folder"), ("renders", "its renders"),
+                            ("out", "where OUT/checkpoints/r0.pt is written")):
+        parser.add_argument(name, type=Path, help=help_text)
+    parser.add_argument("--width", type=int, required=True, help="channels (today's r0: 32)")
     args = parser.parse_args()
     anchors.load_checkpoint = narrowed(anchors.load_checkpoint, args.width)
-    anchors.train(args.run, args.renders, args.region, args.out, **HEAD_SETTINGS)
+    anchors.train(args.run, args.renders, "r0", args.out, **HEAD_SETTINGS)
 
 
 if __name__ == "__main__":
