@@ -8,8 +8,9 @@ patched to decode the head maps; the runtime decodes with the C decoder. Here r0
 network's graph on its crop and decodes its maps with the C decoder at r0's settings, then adds the head network's
 people that overlap none of r0's at IoU 0.5. The head maps are decoded as a centre map would be (the C decoder does
 not read offsets in cells): the same work, not the same people, so the time is the union's and nothing else is read
-from it. Each arm runs the 90 frames twice; the second pass is timed (ms a frame, ``Runtime.run`` end to end) and
-its median and 90th percentile given. Ratios are to today's bundle in the same run.
+from it. Each arm runs the 90 frames twice and the second pass is timed (ms a frame, ``Runtime.run`` end to end);
+the arms run in turn, ``--rounds`` times, since a shared machine's speed drifts between minutes (one round each read
+1.42x and 1.21x for the same union). Ratios are of the median rounds, all in one run.
 """
 
 from __future__ import annotations
@@ -65,25 +66,36 @@ def machine() -> str:
     return (model[0].split(":", 1)[1].strip() if model else platform.processor()) + f", {platform.machine()}"
 
 
+def arm_ms(control: Path, head_bundle: Path | None, frames: list[np.ndarray]) -> np.ndarray:
+    """ms of each frame through today's bundle, with ``head_bundle``'s network beside r0 where given."""
+    with Runtime(control, threads=2) as running:
+        if head_bundle is None:
+            return frame_ms(running, frames)
+        with Runtime(head_bundle, threads=1) as head:
+            with_head(running, head)
+            return frame_ms(running, frames)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("control", type=Path)
     parser.add_argument("heads", type=Path, nargs="+")
+    parser.add_argument("--rounds", type=int, default=5, help="rounds of every arm in turn (default 5)")
     parser.add_argument("-o", "--out", type=Path)
     args = parser.parse_args()
     frames = [frame.image for frame in FrameSource(TUD_FRAMES, FrameRange.parse("1:90"))]
-    with Runtime(args.control, threads=2) as running:
-        today = frame_ms(running, frames)
+    arms: dict[str, Path | None] = {"today's bundle": None, **{f"+ {head.name} beside r0": head for head in args.heads}}
+    medians: dict[str, list[float]] = {name: [] for name in arms}
+    for _ in range(args.rounds):
+        for name, head_bundle in arms.items():
+            medians[name].append(float(np.median(arm_ms(args.control, head_bundle, frames))))
+    today = np.median(medians["today's bundle"])
     lines = [f"machine: {machine()}; runtime as shipped (C decoder), 2 threads, regions in parallel",
-             f"ms a frame, median / 90th percentile of TUD-Stadtmitte 1-90; today's bundle: "
-             f"{np.median(today):.2f} / {np.percentile(today, 90):.2f}"]
-    for head_bundle in args.heads:
-        with Runtime(args.control, threads=2) as running, Runtime(head_bundle, threads=1) as head:
-            with_head(running, head)
-            union = frame_ms(running, frames)
-        lines.append(f"with the head network of {head_bundle.name} beside r0: {np.median(union):.2f} / "
-                     f"{np.percentile(union, 90):.2f} ({np.median(union) / np.median(today):.2f}x / "
-                     f"{np.percentile(union, 90) / np.percentile(today, 90):.2f}x)")
+             f"ms a frame, TUD-Stadtmitte 1-90: each round's median frame, {args.rounds} rounds of the arms in turn; "
+             f"the median round, its ratio to today's, and every round"]
+    for name, rounds in medians.items():
+        middle = np.median(rounds)
+        lines.append(f"{name}: {middle:.2f} ({middle / today:.2f}x); rounds " + " ".join(f"{ms:.2f}" for ms in rounds))
     print("\n".join(lines))
     if args.out:
         args.out.parent.mkdir(parents=True, exist_ok=True)
