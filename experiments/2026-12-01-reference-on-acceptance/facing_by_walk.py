@@ -114,7 +114,8 @@ def main() -> None:
             frames = FrameRange(metrics["first"], metrics["last"], metrics["step"])
             tracked = {line["frame"]: line["people"] for line in map(json.loads, (folder / "detections.jsonl")
                                                                       .read_text().splitlines())}
-            counts = {name: {"as walked": 0, "the other way": 0, "unread": 0}
+            counts = {name: {"as walked": 0, "the other way": 0, "unread": 0,
+                             "the other way, walking towards the camera": 0, "walking towards the camera": 0}
                       for name in ("YOLO11n-pose@1280", "bundle, each frame", "bundle, tracked")}
             walkers = 0
             nose = {1: [], -1: []}  # the bundle's nose confidence each frame, by walked facing
@@ -144,6 +145,9 @@ def main() -> None:
                         outcome = "unread" if not read else "as walked" if read == facing[truth_ids[index]] \
                             else "the other way"
                         counts[name][outcome] += 1
+                        if facing[truth_ids[index]] > 0:
+                            counts[name]["walking towards the camera"] += 1
+                            counts[name]["the other way, walking towards the camera"] += outcome == "the other way"
                         if name == "bundle, each frame":
                             nose[facing[truth_ids[index]]].append(float(keypoints[detection, 0, 2]))
             results[f"{frames.first}:{frames.last}:{frames.step}"] = {
