@@ -103,6 +103,18 @@ def test_a_compile_choosing_its_precision_without_held_out_renders_is_refused_na
     assert not output.exists()
 
 
+@pytest.mark.parametrize(("assignment", "field", "reason"),
+                         [("render.samples=100", "render", "one shard a region"),
+                          ("train.width=15", "train.width", "divide width 15")])
+def test_a_compile_that_would_fail_after_rendering_is_refused_before_it(tmp_path, capsys, assignment, field, reason):
+    # one shard a region, or a width the network cannot take, used to be found by training, after the renders
+    output = tmp_path / "out"
+    assert compile_cli.main(["s.yaml", "-o", str(output), "--set", assignment]) == 2
+    error = capsys.readouterr().err.strip()
+    assert error.count("\n") == 0 and f"--set {field}:" in error and reason in error
+    assert not output.exists()
+
+
 def test_the_offsets_weight_reaches_the_loss_and_only_with_the_offsets():
     from vc.stages.config import TrainSettings
     weighed = TrainSettings(centre_offsets=True, centre_offset_weight=0.3, centre_sigma=0.05).train_config()

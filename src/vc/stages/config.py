@@ -89,6 +89,17 @@ class TrainSettings(_Section):
                                         description="the centre offsets' share of the loss (with centre_offsets): "
                                                     "lower leaves more of the network to the keypoint maps")
 
+    @field_validator("width", "sb_units")
+    @classmethod
+    def _network_takes_it(cls, value: int | None, info: ValidationInfo) -> int | None:
+        """Checked when the config is read, not when training starts after the renders."""
+        if value is None:
+            return value
+        overrides = {"width": info.data.get("width"), info.field_name: value}
+        replace(network_config(info.data.get("arch", DEFAULT_ARCH)),
+                **{name: given for name, given in overrides.items() if given is not None})  # ValueError: refused
+        return value
+
     @field_validator("centre_offset_weight")
     @classmethod
     def _weight_needs_offsets(cls, weight: float, info: ValidationInfo) -> float:
@@ -104,13 +115,10 @@ class TrainSettings(_Section):
         return fine
 
     def train_config(self) -> TrainConfig:
-        """The full training config; a width or SB count the network cannot take is bad input."""
+        """The full training config (a width or SB count the network cannot take was refused when read)."""
         overrides = {key: value for key, value in (("width", self.width), ("sb_units", self.sb_units))
                      if value is not None}
-        try:
-            network = replace(network_config(self.arch), **overrides)
-        except ValueError as error:
-            raise InputError(None, "train.width/train.sb_units", str(error)) from None
+        network = replace(network_config(self.arch), **overrides)
         bf16 = native_bf16() if self.bf16_autocast == "auto" else self.bf16_autocast
         channels_last = bf16 if self.channels_last == "auto" else self.channels_last
         centre = {} if self.centre_sigma is None else centre_map_settings(self.centre_sigma)
@@ -152,6 +160,16 @@ class CompileConfig(_Section):
     train: TrainSettings = TrainSettings()
     export: ExportSettings = ExportSettings(precision="auto")
     self_test: SelfTestSettings = SelfTestSettings()
+
+    @field_validator("render")
+    @classmethod
+    def _renders_two_shards(cls, render: RenderSettings) -> RenderSettings:
+        """Training holds whole shards out for evaluation: one shard a region would fail there, after rendering."""
+        if render.samples <= render.shard_size:
+            raise ValueError(f"samples {render.samples} in shards of {render.shard_size} make one shard a region, and "
+                             "training holds whole shards out to measure on: give more samples than shard_size, or "
+                             "a smaller shard_size")
+        return render
 
     def with_seed(self, seed: int) -> CompileConfig:
         """The renders' and the training's seed set together (``vc-compile --seed``)."""
