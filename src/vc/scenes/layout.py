@@ -52,6 +52,19 @@ def validate_ground_polygon(points: list[list[float]]) -> Polygon:
     return polygon
 
 
+class _StandsOnGround(StrictModel):
+    """A shape rising from the ground to its ``height``, a field each subclass declares in its own place (a field
+    here would come first in every scene's dump, and so change the scenes' hashes)."""
+
+    @property
+    def bottom(self) -> float:
+        return 0.0
+
+    @property
+    def top(self) -> float:
+        return self.height
+
+
 class Box(StrictModel):
     """An axis-aligned box rotated by ``yaw`` degrees about z; ``center`` is its 3-D centre."""
 
@@ -95,7 +108,7 @@ class Box(StrictModel):
         return np.array([[c[a], c[b]] for a, b in pairs])
 
 
-class Cylinder(StrictModel):
+class Cylinder(_StandsOnGround):
     """A vertical cylinder standing on the ground at ``base`` (a lamp post, a bollard, a tree trunk)."""
 
     type: Literal["cylinder"]
@@ -103,14 +116,6 @@ class Cylinder(StrictModel):
     radius: float = Field(gt=0)
     height: float = Field(gt=0)
     name: str | None = None
-
-    @property
-    def bottom(self) -> float:
-        return 0.0
-
-    @property
-    def top(self) -> float:
-        return self.height
 
     def footprint(self, segments: int = 24) -> Polygon:
         return shapely.Point(self.base).buffer(self.radius, quad_segs=max(2, segments // 4))
@@ -131,7 +136,7 @@ class Cylinder(StrictModel):
 Obstacle = Annotated[Box | Cylinder, Field(discriminator="type")]
 
 
-class Wall(StrictModel):
+class Wall(_StandsOnGround):
     """A vertical wall from ``start`` to ``end`` on the ground: it occludes and cannot be walked through."""
 
     start: Vec2
@@ -147,14 +152,6 @@ class Wall(StrictModel):
         if np.hypot(self.end[0] - self.start[0], self.end[1] - self.start[1]) < 1e-3:
             raise ValueError("wall start and end are the same point")
         return self
-
-    @property
-    def bottom(self) -> float:
-        return 0.0
-
-    @property
-    def top(self) -> float:
-        return self.height
 
     def footprint(self) -> Polygon:
         return LineString([self.start, self.end]).buffer(self.thickness / 2, cap_style="flat")
