@@ -310,6 +310,10 @@ def _left_is_image_left(annotation: dict, camera: Camera) -> list[bool]:
             for left, right in PAIRS]
 
 
+#: Finished shards a region needs to be trained: training holds whole shards out for evaluation.
+MIN_SHARDS = 2
+
+
 def open_region(root: Path, region: str, held_out_fraction: float = 0.1) -> RegionData:
     """Check and index one region of the dataset at ``root``: every shard against its checksums (a damaged one is
     an InputError naming the file, never read), then its annotations."""
@@ -321,10 +325,10 @@ def open_region(root: Path, region: str, held_out_fraction: float = 0.1) -> Regi
     shards = sorted(path for path in (root / region).glob("shard-*") if path.is_dir() and "." not in path.name)
     if not shards:
         raise InputError(root / region, "", "no finished shards for this region")
-    if len(shards) < 2:
+    if len(shards) < MIN_SHARDS:
         raise InputError(root / region, "", f"{len(shards)} finished shard; training holds whole shards out for "
-                                            "evaluation, so it needs at least 2 (render more samples or a smaller "
-                                            "--shard-size)")
+                                            f"evaluation, so it needs at least {MIN_SHARDS} (render more samples or "
+                                            "a smaller --shard-size)")
     held = max(1, round(len(shards) * held_out_fraction))
     camera = camera_from_dict(regions[region]["camera"])
     checked = has_checksums(manifest)

@@ -27,6 +27,7 @@ from vc.model.config import DEFAULT_ARCH, network_config
 from vc.model.config import PRESETS as NETWORK_PRESETS
 from vc.model.loss import LossWeights
 from vc.model.trainer import TrainConfig, centre_map_settings, native_bf16
+from vc.render.dataset import MIN_SHARDS
 from vc.render.job import DEFAULT_SHARD_SIZE
 from vc.render.synthesis import SynthesisSettings
 
@@ -165,10 +166,10 @@ class CompileConfig(_Section):
     @classmethod
     def _renders_two_shards(cls, render: RenderSettings) -> RenderSettings:
         """Training holds whole shards out for evaluation: one shard a region would fail there, after rendering."""
-        if render.samples <= render.shard_size:
+        if -(-render.samples // render.shard_size) < MIN_SHARDS:
             raise ValueError(f"samples {render.samples} in shards of {render.shard_size} make one shard a region, and "
-                             "training holds whole shards out to measure on: give more samples than shard_size, or "
-                             "a smaller shard_size")
+                             f"training holds whole shards out to measure on ({MIN_SHARDS} at least): give more "
+                             "samples than shard_size, or a smaller shard_size")
         return render
 
     def with_seed(self, seed: int) -> CompileConfig:
