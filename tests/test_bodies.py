@@ -8,7 +8,7 @@ import torch
 import trimesh
 
 from vc.deploy.decode import LOWER_ANKLE_OFFSET, UPRIGHT_OFFSETS
-from vc.deploy.tracking import FACE_AHEAD_OF_EARS
+from vc.deploy.facing import FACE_AHEAD_OF_EARS
 from vc.keypoints import COCO_KEYPOINTS
 from vc.render.appearance import sample_appearance, vertex_thickness
 from vc.render.bodies import BODY_PARTS, Gait, Phenotype, PosedBodies, sample_gait, sample_phenotype

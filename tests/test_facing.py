@@ -11,9 +11,19 @@ import pytest
 import torch
 
 from vc.deploy.bundle import FACING, MANIFEST, load_bundle
-from vc.deploy.facing import CROP_MARGIN, CROP_SIZE, FRAME_INPUT, ROIS_INPUT, FacingReader, crop_rois, ordered_by_facing
+from vc.deploy.facing import (
+    CROP_MARGIN,
+    CROP_SIZE,
+    FACE_AHEAD_OF_EARS,
+    FRAME_INPUT,
+    ROIS_INPUT,
+    FacingReader,
+    crop_rois,
+    face_ahead,
+    ordered_by_facing,
+)
 from vc.deploy.heatmaps import PAIRS
-from vc.deploy.runtime import Runtime
+from vc.deploy.runtime import Person, Runtime
 from vc.errors import InputError
 from vc.model.export import export_facing, with_facing
 from vc.model.facing import (
@@ -21,8 +31,11 @@ from vc.model.facing import (
     FACING_REPORT,
     FacingCrops,
     FacingNet,
+    TurnCrops,
     crop_graph,
+    face_across,
     seen_from_front,
+    train_face_turn,
     train_facing,
 )
 from vc.stages.train import train_facing_model
@@ -40,10 +53,29 @@ def _crops(count: int, seed: int) -> FacingCrops:
     return FacingCrops(crops, front)
 
 
+def _turn_crops(count: int, seed: int) -> TurnCrops:
+    """People whose face, a light patch at the top of the crop, shows on the side it points to (in profile) or in
+    the middle (along the view): a pattern a network learns in a few steps."""
+    rng = np.random.default_rng(seed)
+    crops = rng.integers(0, 60, (count, CROP_SIZE[1], CROP_SIZE[0], 3)).astype(np.uint8)
+    crops[:, 3:12, 10:22] = (25, 20, 15)  # hair
+    across = rng.choice([-1.0, 0.0, 1.0], count).astype(np.float32)
+    for crop, points in zip(crops, across, strict=True):
+        left = 14 + int(points) * 5
+        crop[4:11, left:left + 4] = (225, 185, 150)
+    return TurnCrops(crops, across)
+
+
 @pytest.fixture(scope="module")
 def trained():
     torch.set_num_threads(1)
     return train_facing(_crops(1024, 0), _crops(128, 1), seed=3, epochs=4, show_progress=False)
+
+
+@pytest.fixture(scope="module")
+def turned():
+    torch.set_num_threads(1)
+    return train_face_turn(_turn_crops(1024, 0), _turn_crops(128, 1), seed=3, epochs=4, show_progress=False)
 
 
 def test_the_crop_is_the_box_a_little_taller_and_twice_as_tall_as_wide():
@@ -102,12 +134,14 @@ def test_the_exported_model_reads_the_frame_as_the_network_reads_its_crops(train
         top = 10 + (CROP_SIZE[1] - height) / 2 - 0.5
         boxes.append([x - 0.5 + 0.0, top, x + CROP_SIZE[0] - 0.5, top + height])
     reader = FacingReader(export_facing(trained.net))
-    logits = reader.front_logits(frame, np.array(boxes))
+    reading = reader.read(frame, np.array(boxes))
+    logits = reading.front_logits
     with torch.no_grad():
         expected = trained.net(torch.from_numpy(crops.crops).permute(0, 3, 1, 2).float() / 255.0).numpy()
     np.testing.assert_allclose(logits, expected, rtol=0.1, atol=0.05)  # 2 x 2 samples a pixel blur a little
     assert ((logits > 0) == crops.front).all()
-    assert reader.front_logits(frame, np.zeros((0, 4))).shape == (0,)
+    assert reading.across is None  # a model without the face turn reads the facing alone
+    assert reader.read(frame, np.zeros((0, 4))).front_logits.shape == (0,)
 
 
 def test_a_facing_reorders_the_pairs_and_becomes_the_handedness():
@@ -124,11 +158,12 @@ def test_a_facing_reorders_the_pairs_and_becomes_the_handedness():
     np.testing.assert_array_equal(turned[0], keypoints[0])  # the nose has no pair
 
 
-def _with_facing(bundle, trained, tmp_path):
+def _with_facing(bundle, trained, tmp_path, turned=None):
     run = tmp_path / "run"
     run.mkdir()
-    (run / FACING_MODEL).write_bytes(export_facing(trained.net))
-    (run / FACING_REPORT).write_text(json.dumps(trained.to_dict()))
+    (run / FACING_MODEL).write_bytes(export_facing(trained.net, None if turned is None else turned.net))
+    (run / FACING_REPORT).write_text(json.dumps({**trained.to_dict(),
+                                                 **({} if turned is None else {"face_turn": turned.to_dict()})}))
     manifest = json.loads((bundle / MANIFEST).read_text())
     files = {str(path.relative_to(bundle)): path.read_bytes() for path in bundle.rglob("*")
              if path.is_file() and path.name != MANIFEST}
@@ -148,13 +183,22 @@ def test_a_bundle_carries_its_facing_model_checked_and_the_runtime_orders_people
     frame = np.full((64, 128, 3), 120, np.uint8)
     frame[10:60, 20:40] = 40
     frame[12:22, 26:34] = (225, 185, 150)
-    with Runtime(faced, threads=1) as runtime, Runtime(bundle, threads=1) as plain:
-        people, before = runtime(frame), plain(frame)
-    assert [person.box.tolist() for person in people] == [person.box.tolist() for person in before]
-    for person in people:  # every pair ordered by one facing, of the model's confidence
-        assert np.ptp(person.pair_handedness) == 0.0
+    networks = np.array([0.4, -0.2, 0.3, 0.1, -0.5, 0.2, 0.6, 0.1])  # the networks' pairs, hedging
+    keypoints = np.arange(17 * 3, dtype=np.float64).reshape(17, 3)
+    people = [Person(region="r0", score=0.9, box=np.array([19.5, 9.5, 39.5, 59.5]), keypoints=keypoints.copy(),
+                     mask=np.zeros((1, 1), bool), mask_origin=(0, 0), pair_handedness=networks.copy())]
+    with Runtime(faced, threads=1) as runtime:
+        people = runtime.runners[0].faced(frame, people)
+    logit = FacingReader(loaded.facing).read(frame, np.array([people[0].box])).front_logits[0]
+    # every pair ordered by one facing, of the model's confidence
+    np.testing.assert_allclose(people[0].pair_handedness, -np.tanh(logit / 2.0), rtol=1e-6)
     # what a tracker weighs against an unclear walk stays the networks' confidence
-    assert [person.trusted_handedness for person in people] == [person.handedness for person in before]
+    assert people[0].trusted_handedness == pytest.approx(networks.mean())
+    with Runtime(bundle, threads=1) as plain:  # a bundle without the model keeps the networks' order
+        kept = plain.runners[0].faced(frame, [Person(region="r0", score=0.9, box=np.array([19.5, 9.5, 39.5, 59.5]),
+                                                      keypoints=keypoints.copy(), mask=np.zeros((1, 1), bool),
+                                                      mask_origin=(0, 0), pair_handedness=networks.copy())])
+    np.testing.assert_array_equal(kept[0].pair_handedness, networks)
     # a model that does not match its checksum is refused by name
     (faced / "models" / "facing.onnx").write_bytes(b"not the model")
     with pytest.raises(InputError, match=f"{FACING}.model_sha256"):
@@ -193,7 +237,7 @@ def test_boxes_of_no_size_or_beyond_the_frame_read_a_finite_facing(trained):
     frame = np.zeros((100, 120, 3), np.uint8)
     boxes = np.array([[10.0, 10.0, 10.0, 10.0], [10.0, 10.0, 20.0, 10.0], [-50.0, -50.0, -10.0, -10.0],
                       [110.0, 90.0, 130.0, 140.0], [0.0, 0.0, 119.0, 99.0]])
-    assert np.isfinite(reader.front_logits(frame, boxes)).all()
+    assert np.isfinite(reader.read(frame, boxes).front_logits).all()
 
 
 def test_a_run_keeps_its_facing_model_only_for_the_renders_and_seed_it_was_trained_on(tmp_path, monkeypatch):
@@ -208,11 +252,99 @@ def test_a_run_keeps_its_facing_model_only_for_the_renders_and_seed_it_was_train
         trained_calls.append(seed)
         return train_facing(_crops(1024, seed), _crops(128, 1), seed=seed, epochs=1, show_progress=False)
 
+    def fake_turn(train, held_out, seed, show_progress=True):
+        return train_face_turn(_turn_crops(256, seed), _turn_crops(64, 1), seed=seed, epochs=1, show_progress=False)
+
     monkeypatch.setattr(stage, "MIN_FACING_CROPS", 0)
     monkeypatch.setattr(stage, "train_facing", fake_train)
+    monkeypatch.setattr(stage, "train_face_turn", fake_turn)
     run = tmp_path / "run"
     first = stage.train_facing_model(data, run, seed=0, show_progress=False)
     assert stage.train_facing_model(data, run, seed=0, show_progress=False) == first  # resumed: kept
     stage.train_facing_model(data, run, seed=1, show_progress=False)  # another seed: trained again
     assert trained_calls == [0, 1]
     assert json.loads((run / FACING_REPORT).read_text())["trained_on"]["seed"] == 1
+
+
+@pytest.mark.parametrize(("nose_ahead", "labelled", "expected"), [
+    (FACE_AHEAD_OF_EARS["nose"], True, 1.0),  # in profile, facing the image's right
+    (-0.5 * FACE_AHEAD_OF_EARS["nose"], True, -0.5),
+    (-0.2, True, -1.0),  # further than any face: clipped
+    (0.0, True, 0.0),  # along the view
+    (0.05, False, None),  # no nose labelled
+])
+def test_a_rendered_persons_face_points_where_their_nose_stands_from_their_ears(nose_ahead, labelled, expected):
+    height = 60.0
+    keypoints = np.zeros((17, 3))
+    keypoints[[0, 3, 4], 2] = 2
+    keypoints[3, 0], keypoints[4, 0] = 10.0, 14.0
+    keypoints[0, 0] = 12.0 + nose_ahead * height
+    keypoints[0, 2] = 2 if labelled else 0
+    annotation = {"keypoints": keypoints.ravel().tolist(), "amodal_bbox": [0.0, 0.0, 20.0, height]}
+    assert face_across(annotation) == (None if expected is None else pytest.approx(expected))
+
+
+def test_the_face_turn_learns_where_faces_point_and_the_same_seed_gives_the_same_weights(turned):
+    assert turned.held_out_profile_sign >= 0.95
+    assert turned.held_out_error < 0.6  # reading every face along the view would be 0.67 off
+    again = train_face_turn(_turn_crops(1024, 0), _turn_crops(128, 1), seed=3, epochs=4, show_progress=False)
+    for mine, theirs in zip(turned.net.state_dict().values(), again.net.state_dict().values(), strict=True):
+        assert torch.equal(mine, theirs)
+
+
+def test_a_mirrored_face_points_the_other_way(turned):
+    crops = _turn_crops(64, 5)
+    profile = crops.across != 0
+    batch = torch.from_numpy(crops.crops[profile]).permute(0, 3, 1, 2).float() / 255.0
+    turned.net.eval()
+    with torch.no_grad():
+        read, mirrored = turned.net(batch).numpy(), turned.net(batch.flip(3)).numpy()
+    assert (np.sign(read) == np.sign(crops.across[profile])).all()
+    assert (np.sign(mirrored) == -np.sign(crops.across[profile])).all()
+    assert np.abs(read).max() <= 1.0  # the net's tanh: where face_ahead takes it
+
+
+def test_the_nose_and_eyes_are_put_where_the_face_points():
+    keypoints = np.zeros((17, 3))
+    keypoints[3, 0], keypoints[4, 0] = 50.0, 54.0  # ears
+    keypoints[1, 0], keypoints[2, 0] = 51.0, 53.0  # eyes 2 px apart
+    turned = face_ahead(keypoints, 100.0, -1.0)
+    assert turned[0, 0] == pytest.approx(52.0 - FACE_AHEAD_OF_EARS["nose"] * 100.0)
+    assert turned[[1, 2], 0].mean() == pytest.approx(52.0 - FACE_AHEAD_OF_EARS["eyes"] * 100.0)
+    assert turned[2, 0] - turned[1, 0] == pytest.approx(2.0)  # their spacing kept
+    np.testing.assert_array_equal(turned[3:], keypoints[3:])
+
+
+def test_a_bundle_with_the_face_turn_turns_faces_each_frame(bundle, trained, turned, tmp_path):
+    export = export_facing(trained.net, turned.net)
+    reader = FacingReader(export)
+    assert reader.reads_across
+    crops = _turn_crops(3, 9)
+    frame = np.zeros((80, 120, 3), np.uint8)
+    boxes = []
+    for index, crop in enumerate(crops.crops):  # each person pasted at the crop's own size
+        x = 5 + index * 38
+        frame[8:8 + CROP_SIZE[1], x:x + CROP_SIZE[0]] = crop
+        height = CROP_SIZE[1] / CROP_MARGIN
+        top = 8 + (CROP_SIZE[1] - height) / 2 - 0.5
+        boxes.append([x - 0.5, top, x + CROP_SIZE[0] - 0.5, top + height])
+    across = reader.read(frame, np.array(boxes)).across
+    profile = crops.across != 0
+    assert (np.sign(across[profile]) == np.sign(crops.across[profile])).all()
+    assert (np.abs(across) <= 1.0).all()
+
+    faced = _with_facing(bundle, trained, tmp_path, turned)
+    manifest = json.loads((faced / MANIFEST).read_text())
+    assert manifest[FACING]["across_output"] == "face_across"
+    keypoints = np.zeros((17, 3))
+    keypoints[:, 0], keypoints[:, 2] = 20.0, 1.0
+    people = [Person(region="r0", score=0.9, box=np.array(box), keypoints=keypoints.copy(),
+                     mask=np.zeros((1, 1), bool), mask_origin=(0, 0), pair_handedness=np.full(len(PAIRS), 0.5))
+              for box in boxes]
+    with Runtime(faced, threads=1) as runtime:
+        people = runtime.runners[0].faced(frame, people)
+    for person, points in zip(people, across, strict=True):  # the nose where the face turn put it, each frame
+        height = person.box[3] - person.box[1]
+        ears = person.keypoints[[3, 4], 0].mean()
+        assert person.keypoints[0, 0] - ears == pytest.approx(FACE_AHEAD_OF_EARS["nose"] * height * points, abs=1e-4)
+    assert any(abs(person.keypoints[0, 0] - 20.0) > 1.0 for person in people)  # profiles turned off the middle

@@ -9,10 +9,10 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from vc.deploy.facing import FACE_AHEAD_OF_EARS
 from vc.deploy.heatmaps import PAIRS
 from vc.deploy.runtime import Person
 from vc.deploy.tracking import (
-    FACE_AHEAD_OF_EARS,
     Tracker,
     TrackingConfig,
     appearance,

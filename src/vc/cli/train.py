@@ -94,7 +94,14 @@ def _facing_line(facing: dict) -> str:
     accuracy = facing["held_out_accuracy"]
     measured = (f"{accuracy:.3f} of {facing['held_out_crops']} held-out people read facing the right way"
                 if accuracy is not None else "no held-out people to measure it on")
-    return f"{measured} ({facing['train_crops']} trained on)"
+    turn = facing.get("face_turn", {})
+    turned = ""
+    if "skipped" in turn:
+        turned = f"; face turn none: {turn['skipped']}"
+    elif turn.get("held_out_profile_sign") is not None:
+        turned = (f"; face turn {turn['held_out_profile_sign']:.3f} of held-out profiles read pointing the right way "
+                  f"(mean error {turn['held_out_error']:.3f})")
+    return f"{measured} ({facing['train_crops']} trained on){turned}"
 
 
 @handles_input_errors

@@ -22,9 +22,10 @@ depart from the background and still be fit, what the networks were compiled to 
 The manifest's optional ``decoder_file`` names the flat file a decoder outside Python reads
 (:mod:`vc.deploy.decoder_file`), checked like every member.
 
-The manifest's optional ``facing`` (``model``, ``model_sha256``, ``crop_size``) names the facing model, which
-reads from each person's crop whether they are seen from the front or from behind (:mod:`vc.deploy.facing`); a
-bundle without it orders a person's left and right by its networks' handedness maps, as before.
+The manifest's optional ``facing`` (``model``, ``model_sha256``, ``crop_size``; ``across_output`` where the model
+also reads where faces point) names the facing model, which reads from each person's crop whether they are seen
+from the front or from behind, and where their face points (:mod:`vc.deploy.facing`); a bundle without it orders a
+person's left and right by its networks' handedness maps, as before.
 
 The manifest's optional ``zones`` are the scene's named areas, in frame pixels or on the ground, that a service
 reports people entering and leaving (:mod:`vc.deploy.zones`); a malformed zone is refused by name.

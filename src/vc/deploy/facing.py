@@ -4,31 +4,46 @@ A left/right pair's order is a property of the whole figure: seen from the front
 are on the image's right; seen from behind, on its left. The region networks' handedness maps cannot tell at
 surveillance sizes (0007: 51-56 % right on their own renders at PETS09's 48 px). A small classifier trained on the
 compile's renders for that one question can: it looks at the whole person, face or hair, toes, the figure's
-front (docs/decisions/0027-facing-from-the-crop.md).
+front (docs/decisions/0027-facing-from-the-crop.md). A second one beside it reads where the face points across
+the image: where the networks cannot tell, they put the nose between the ears, where no face in profile has it
+(docs/decisions/0038-the-face-turned-from-the-crop.md).
 
 1. Each person's crop is the box, :data:`CROP_MARGIN` taller, twice as tall as wide about the box's centre
    (:func:`crop_rois`). The model cuts the crops itself: its graph takes the frame (1, H, W, 3) uint8 and the crops'
    rectangles (N, 4), and samples each at :data:`CROP_SIZE` by ONNX's RoiAlign, every bin the average of 2 x 2
    samples spread over it (onnxruntime's C++, one call a frame; numpy resampling per person cost 0.6 ms each).
-2. Its output is one logit per person: > 0 seen from the front.
+2. Its outputs are one logit per person, > 0 seen from the front, and, from models exported since 0038, where the
+   face points across the image (-1 in profile facing the image's left, 0 along the view, 1 facing its right).
 3. The person's pairs are ordered by that facing, and their handedness becomes ``-tanh(logit / 2)`` on every pair
    (> 0 seen from behind, its size the model's confidence), which the tracker weighs against the walk
    (:mod:`vc.deploy.tracking`).
+4. The nose and the eyes are put ahead of the ears' midpoint by the body model's distances times where the face
+   points (:func:`face_ahead`); the tracker turns them the same way by the walk where it decides the facing.
 """
 
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import numpy as np
 
 from vc.deploy.engines import onnxruntime_inference
 from vc.deploy.heatmaps import swap_pairs
+from vc.keypoints import COCO_KEYPOINTS
 
 #: The crop the facing model reads, width x height (pixels).
 CROP_SIZE = (32, 64)
 #: The crop's height over the box's: a little ground and air around the person.
 CROP_MARGIN = 1.1
-#: The model's inputs and output.
-FRAME_INPUT, ROIS_INPUT, OUTPUT_NAME = "frame", "rois", "front_logit"
+#: The model's inputs and outputs (the second only in models exported since decision 0038).
+FRAME_INPUT, ROIS_INPUT, OUTPUT_NAME, ACROSS_OUTPUT = "frame", "rois", "front_logit", "face_across"
+#: How far the nose and the eyes stand ahead of the ears' midpoint, in fractions of the person's height: the
+#: renderer's body model (anny's template, ``render/bodies.py``) has its nose 0.103 m and its eyes 0.081 m ahead of
+#: the ears on a 1.67 m body (tests/test_bodies.py checks these against it).
+FACE_AHEAD_OF_EARS = {"nose": 0.062, "eyes": 0.048}
+_NOSE = COCO_KEYPOINTS.index("nose")
+_EYES = [COCO_KEYPOINTS.index("left_eye"), COCO_KEYPOINTS.index("right_eye")]
+_EARS = [COCO_KEYPOINTS.index("left_ear"), COCO_KEYPOINTS.index("right_ear")]
 
 
 def crop_rois(boxes: np.ndarray) -> np.ndarray:
@@ -43,17 +58,26 @@ def crop_rois(boxes: np.ndarray) -> np.ndarray:
                     axis=1).astype(np.float32)
 
 
+class FacingReading(NamedTuple):
+    """What the facing model reads of N people: front logits (N,), and where each face points across the image
+    (N,) in [-1, 1], or None from a model exported before it read that."""
+
+    front_logits: np.ndarray
+    across: np.ndarray | None
+
+
 class FacingReader:
-    """A bundle's facing model in onnxruntime: the front logit of each person (steps 1-2). One session per region
-    runner: the regions run in threads of their own."""
+    """A bundle's facing model in onnxruntime: the front logit of each person and where their face points (steps
+    1-2). One session per region runner: the regions run in threads of their own."""
 
     def __init__(self, model: bytes, threads: int = 1) -> None:
         self.session = onnxruntime_inference(model, threads)
+        self.reads_across = ACROSS_OUTPUT in {output.name for output in self.session.get_outputs()}
 
-    def front_logits(self, frame: np.ndarray, boxes: np.ndarray) -> np.ndarray:
-        """(N,) logits, > 0 seen from the front, of the people in ``boxes`` (N, 4) of an (H, W, 3) uint8 ``frame``."""
+    def read(self, frame: np.ndarray, boxes: np.ndarray) -> FacingReading:
+        """What the model reads of the people in ``boxes`` (N, 4) of an (H, W, 3) uint8 ``frame``."""
         if not len(boxes):
-            return np.zeros(0, np.float32)
+            return FacingReading(np.zeros(0, np.float32), np.zeros(0, np.float32) if self.reads_across else None)
         rois = crop_rois(boxes)
         # only the part of the frame the crops reach goes into the graph (its cast and transpose cost per pixel)
         height, width = frame.shape[:2]
@@ -63,7 +87,10 @@ class FacingReader:
                   ((2, x0, width), (3, y0, height)))
         part = np.ascontiguousarray(frame[None, y0:y1, x0:x1])
         shifted = rois - np.array([x0, y0, x0, y0], np.float32)
-        return np.asarray(self.session.run(None, {FRAME_INPUT: part, ROIS_INPUT: shifted})[0]).reshape(-1)
+        outputs = [OUTPUT_NAME, ACROSS_OUTPUT] if self.reads_across else [OUTPUT_NAME]
+        found = self.session.run(outputs, {FRAME_INPUT: part, ROIS_INPUT: shifted})
+        return FacingReading(np.asarray(found[0]).reshape(-1),
+                             np.asarray(found[1]).reshape(-1) if self.reads_across else None)
 
 
 def ordered_by_facing(keypoints: np.ndarray, pair_handedness: np.ndarray, front_logit: float
@@ -74,3 +101,14 @@ def ordered_by_facing(keypoints: np.ndarray, pair_handedness: np.ndarray, front_
     behind = -float(np.tanh(front_logit / 2.0))
     reordered = swap_pairs(keypoints, (np.asarray(pair_handedness) >= 0) != (behind > 0))
     return reordered, np.full(len(pair_handedness), behind, np.float32)
+
+
+def face_ahead(keypoints: np.ndarray, height: float, across: float) -> np.ndarray:
+    """The keypoints (17, 3) with the nose and the eyes (their midpoint; their spacing kept) put ahead of the ears'
+    midpoint by :data:`FACE_AHEAD_OF_EARS` of the person's ``height`` (px) times ``across`` (-1: in profile facing
+    the image's left, 0: facing along the view, 1: in profile facing right) (step 4)."""
+    turned = keypoints.copy()
+    ears_x = float(keypoints[_EARS, 0].mean())
+    turned[_NOSE, 0] = ears_x + FACE_AHEAD_OF_EARS["nose"] * height * across
+    turned[_EYES, 0] += ears_x + FACE_AHEAD_OF_EARS["eyes"] * height * across - float(keypoints[_EYES, 0].mean())
+    return turned

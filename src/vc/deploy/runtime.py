@@ -56,7 +56,7 @@ from vc.deploy.bundle import NO_REFERENCE, Bundle, RegionEntry, load_bundle
 from vc.deploy.decode import UPRIGHT_PRIOR, DecodeConfig, DecodedPerson, UprightPrior, decode
 from vc.deploy.engines import DEFAULT_ENGINE, checked_engine, graph_session
 from vc.deploy.exposure import BROUGHT_BACK_AGREEMENT, KEPT_CORRECTION_STOPS, correction_stops, exposed
-from vc.deploy.facing import FacingReader, ordered_by_facing
+from vc.deploy.facing import FacingReader, face_ahead, ordered_by_facing
 from vc.deploy.fitness import COVERED, DARK, MOVED, OVEREXPOSED, STATES, UNFIT_STATES, FrameFitness
 from vc.deploy.native import checked_decoder
 from vc.deploy.registration import Registration, view_back
@@ -204,16 +204,20 @@ class RegionRunner:
         return people
 
     def faced(self, frame: np.ndarray, people: list[Person]) -> list[Person]:
-        """``people`` with their left and right ordered by the bundle's facing model where it has one
-        (:mod:`vc.deploy.facing`); weak people, for a tracker's eyes only, keep the networks' order."""
+        """``people`` with their left and right ordered by the bundle's facing model where it has one, and their
+        face turned where it points (:mod:`vc.deploy.facing`); weak people, for a tracker's eyes only, keep the
+        networks' order and face."""
         read = [person for person in people if not person.weak and person.pair_handedness is not None]
         if self.facing is None or not read:
             return people
-        logits = self.facing.front_logits(frame, np.array([person.box for person in read]))
-        for person, logit in zip(read, logits, strict=True):
+        reading = self.facing.read(frame, np.array([person.box for person in read]))
+        for index, (person, logit) in enumerate(zip(read, reading.front_logits, strict=True)):
             person.network_handedness = person.handedness
             person.keypoints, person.pair_handedness = ordered_by_facing(person.keypoints, person.pair_handedness,
                                                                          float(logit))
+            if reading.across is not None:
+                person.keypoints = face_ahead(person.keypoints, float(person.box[3] - person.box[1]),
+                                              float(reading.across[index]))
         return people
 
     def people_in(self, heatmaps: np.ndarray, config: DecodeConfig | None = None,

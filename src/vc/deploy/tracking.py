@@ -54,13 +54,11 @@ the time unseen: precision pays little, as the score ranks it below what is seen
    only the feet move), and there the walk read three in four such people the wrong way round
    (docs/decisions/0028-a-walk-that-is-not-a-walk.md).
 4. A person whose facing came from motion gets each left/right pair put in the image order that facing implies,
-   and their face turned the way they walk: the nose and the eyes are put ahead of the ears' midpoint, toward the
-   side the feet move to, by the body model's distances (:data:`FACE_AHEAD_OF_EARS`) times the share of the walk
-   that crosses the view (the foot point's horizontal speed over ``profile_speed_heights_per_s``, at most 1: a
-   person crossing the view is seen in profile, one walking along it from the front or back). Why: where the
-   network cannot tell which way a face points it puts the nose between the ears, where no face has it in
-   profile (PETS09: a median 0.01 head sizes from the ears' midpoint where YOLO11n-pose sees a profile with the
-   nose 0.5 head sizes ahead of the ear; docs/pose.md).
+   and their face turned the way they walk (:func:`vc.deploy.facing.face_ahead`): the nose and the eyes are put
+   ahead of the ears' midpoint, toward the side the feet move to, by the share of the walk that crosses the view
+   (the foot point's horizontal speed over ``profile_speed_heights_per_s``, at most 1: a person crossing the view
+   is seen in profile, one walking along it from the front or back). Elsewhere the face stays where the bundle's
+   facing model turned it, each frame on its own (:mod:`vc.deploy.facing`).
 5. Carried: a track of at least ``coast_min_observations`` unseen for at most ``coast_s`` is reported
    (``coasted``) with its last box and keypoints moved by the least-squares velocity of its box over the window,
    its score times ``exp(-unseen / coast_score_decay_s)`` and no mask, unless that box overlaps a person seen in
@@ -76,18 +74,10 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from vc.deploy.boxes import box_iou, foot_points
+from vc.deploy.facing import face_ahead
 from vc.deploy.frames import FrameSource
 from vc.deploy.heatmaps import PAIRS, swap_pairs
 from vc.deploy.runtime import Person, within_frame
-from vc.keypoints import COCO_KEYPOINTS
-
-#: How far the nose and the eyes stand ahead of the ears' midpoint, in fractions of the person's height: the
-#: renderer's body model (anny's template, ``render/bodies.py``) has its nose 0.103 m and its eyes 0.081 m ahead of
-#: the ears on a 1.67 m body (tests/test_bodies.py checks these against it).
-FACE_AHEAD_OF_EARS = {"nose": 0.062, "eyes": 0.048}
-_NOSE = COCO_KEYPOINTS.index("nose")
-_EYES = [COCO_KEYPOINTS.index("left_eye"), COCO_KEYPOINTS.index("right_eye")]
-_EARS = [COCO_KEYPOINTS.index("left_ear"), COCO_KEYPOINTS.index("right_ear")]
 
 #: Levels per RGB channel of the colour histograms that tell people apart (4: 64 colours, coarse enough for a
 #: person's clothes to keep theirs under changing light) and how much of a track's histogram each sighting renews.
@@ -190,17 +180,6 @@ def facing_pairs(person: Person, seen_from_behind: bool) -> np.ndarray:
         return swap_pairs(person.keypoints, (person.pair_handedness >= 0) != seen_from_behind)
     image_left_first = [person.keypoints[left, 0] <= person.keypoints[right, 0] for left, right in PAIRS]
     return swap_pairs(person.keypoints, np.array(image_left_first) != seen_from_behind)
-
-
-def face_ahead(keypoints: np.ndarray, height: float, across: float) -> np.ndarray:
-    """The keypoints (17, 3) with the nose and the eyes (their midpoint; their spacing kept) put ahead of the ears'
-    midpoint by :data:`FACE_AHEAD_OF_EARS` of the person's ``height`` (px) times ``across`` (-1: in profile facing
-    the image's left, 0: facing along the view, 1: in profile facing right) (step 4)."""
-    turned = keypoints.copy()
-    ears_x = float(keypoints[_EARS, 0].mean())
-    turned[_NOSE, 0] = ears_x + FACE_AHEAD_OF_EARS["nose"] * height * across
-    turned[_EYES, 0] += ears_x + FACE_AHEAD_OF_EARS["eyes"] * height * across - float(keypoints[_EYES, 0].mean())
-    return turned
 
 
 def appearance(person: Person, frame: np.ndarray) -> np.ndarray | None:

@@ -44,7 +44,7 @@ from vc.deploy.bundle import (
     sha256,
 )
 from vc.deploy.decoder_file import DECODER_FILE, decoder_file
-from vc.deploy.facing import CROP_SIZE, FRAME_INPUT, ROIS_INPUT
+from vc.deploy.facing import ACROSS_OUTPUT, CROP_SIZE, FRAME_INPUT, ROIS_INPUT
 from vc.deploy.facing import OUTPUT_NAME as FACING_OUTPUT
 from vc.deploy.fitness import FitRange, SceneReference
 from vc.deploy.heatmaps import channel_names
@@ -54,7 +54,7 @@ from vc.io import atomic_directory, atomic_path, read_image
 from vc.keypoints import COCO_KEYPOINTS, COCO_SKELETON_1BASED
 from vc.model.camera_range import fit_range_of
 from vc.model.codec import expected_height_map
-from vc.model.facing import CROPS, FACING_MODEL, FACING_OPSET, FACING_REPORT, FacingNet, crop_graph
+from vc.model.facing import CROPS, FACING_MODEL, FACING_OPSET, FACING_REPORT, FaceTurnNet, FacingNet, crop_graph
 from vc.model.network import ScenePoseNet
 from vc.model.operators import graph_operators, outside_conservative_set
 from vc.model.precision import choose_precision
@@ -102,17 +102,31 @@ def export_onnx(net: ScenePoseNet, crop_size: tuple[int, int], input_size: tuple
     return model.SerializeToString()
 
 
-def export_facing(net: FacingNet) -> bytes:
-    """The facing model as a bundle ships it (:mod:`vc.model.facing` step 4): :func:`crop_graph` feeding ``net``,
-    the frame (1, H, W, 3) uint8 and the crops' rectangles (N, 4) in, a front logit per person (N,) out."""
-    net.eval()
+class _FacingPair(nn.Module):
+    """The two facing networks side by side on the same crops, for one export."""
+
+    def __init__(self, facing: FacingNet, turn: FaceTurnNet) -> None:
+        super().__init__()
+        self.facing, self.turn = facing, turn
+
+    def forward(self, crops: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+        return self.facing(crops), self.turn(crops)
+
+
+def export_facing(net: FacingNet, turn: FaceTurnNet | None = None) -> bytes:
+    """The facing model as a bundle ships it (:mod:`vc.model.facing` step 4): :func:`crop_graph` feeding ``net``
+    (and ``turn`` where given), the frame (1, H, W, 3) uint8 and the crops' rectangles (N, 4) in, a front logit per
+    person (N,) out (and where each face points, (N,))."""
+    module: nn.Module = net if turn is None else _FacingPair(net, turn)
+    outputs = [FACING_OUTPUT] if turn is None else [FACING_OUTPUT, ACROSS_OUTPUT]
+    module.eval()
     buffer = io.BytesIO()
     example = torch.zeros(1, 3, CROP_SIZE[1], CROP_SIZE[0])
     with torch.no_grad(), warnings.catch_warnings():
         warnings.simplefilter("ignore", DeprecationWarning)  # the classic exporter announces its own retirement
-        torch.onnx.export(net, (example,), buffer, input_names=[CROPS], output_names=[FACING_OUTPUT],
-                          dynamic_axes={CROPS: {0: "people"}, FACING_OUTPUT: {0: "people"}}, opset_version=FACING_OPSET,
-                          dynamo=False, do_constant_folding=True)
+        torch.onnx.export(module, (example,), buffer, input_names=[CROPS], output_names=outputs,
+                          dynamic_axes={CROPS: {0: "people"}, **{name: {0: "people"} for name in outputs}},
+                          opset_version=FACING_OPSET, dynamo=False, do_constant_folding=True)
     classifier = onnx.load_from_string(buffer.getvalue())
     crops = crop_graph()
     crops.ir_version = classifier.ir_version  # merged graphs share one IR version: the exporter's
@@ -290,9 +304,12 @@ def with_facing(manifest: dict, files: dict[str, bytes], run: Path) -> tuple[dic
     where int8 would save little and cost its calibration."""
     model = (run / FACING_MODEL).read_bytes()
     report = json.loads((run / FACING_REPORT).read_text()) if (run / FACING_REPORT).is_file() else {}
+    turn = report.get("face_turn")  # runs trained before decision 0038 read the facing alone
     entry = {"model": FACING_MEMBER, "model_sha256": sha256(model), "crop_size": list(CROP_SIZE),
              "inputs": [FRAME_INPUT, ROIS_INPUT], "output": FACING_OUTPUT,
-             "held_out_accuracy": report.get("held_out_accuracy")}
+             "held_out_accuracy": report.get("held_out_accuracy"),
+             **({"across_output": ACROSS_OUTPUT, "face_turn_held_out_error": turn.get("held_out_error")}
+                if isinstance(turn, dict) and "held_out_error" in turn else {})}
     return {**manifest, FACING: entry}, {**files, FACING_MEMBER: model}
 
 

@@ -1,24 +1,31 @@
-"""The facing model: one small classifier per compile, trained on the compile's renders, that reads from a person's
-crop whether they are seen from the front or from behind (:mod:`vc.deploy.facing` runs it).
+"""The facing model: two small networks per compile, trained on the compile's renders, that read from a person's
+crop whether they are seen from the front or from behind, and where their face points across the image
+(:mod:`vc.deploy.facing` runs them).
 
 Why a model of its own: which way a person faces decides all eight left/right pairs at once, and the region networks'
 handedness maps, one output among 27 of a network sized for finding people, stay near chance on PETS09's 48 px
 people even on their own renders. A classifier that sees only the person and answers only that learns it on the
 same renders (held-out accuracy 0.94-0.96 on PETS09's and TUD-Stadtmitte's), and on real frames it is right for
 about two people in three (PETS09) to four in five (TUD-Stadtmitte) where the networks' reading is at chance
-(docs/decisions/0027-facing-from-the-crop.md).
+(docs/decisions/0027-facing-from-the-crop.md). Where the face points is read the same way: the networks put the
+nose between the ears, and a person crossing the view shows it ahead of them; the same network, trained for that,
+reads it on real people as it does on renders (docs/decisions/0038-the-face-turned-from-the-crop.md).
 
 1. **Crops**: every rendered person seen whole (visible box at least :data:`MIN_VISIBLE_SHARE` of the amodal box's
    height, amodal height at least :data:`MIN_HEIGHT_PX`), cut from the region's render by the graph the bundle's
-   model cuts frames with (:func:`crop_graph`), labelled front or behind by the 3-D keypoints' image order
+   model cuts frames with (:func:`crop_graph`). Each is labelled front or behind by the 3-D keypoints' image order
    (the dataset's ``left_is_image_left``) on shoulders and hips together; people in profile, whose pairs disagree or
-   lie within :data:`PROFILE_SHARE` of their height, are left out: they have no front to learn.
+   lie within :data:`PROFILE_SHARE` of their height, have no front to learn and no such label. Each is also labelled
+   with where the face points (:func:`face_across`): the nose's offset from the ears' midpoint over the distance
+   the body model puts it ahead of them in profile.
 2. **Camera look**: each crop drawn for training is blurred, cast, dimmed or brightened, given gain noise, compressed
-   or made monochrome (:func:`camera_look`), and mirrored half the time (a mirror keeps the front a front).
-3. **Training**: :class:`FacingNet` with binary cross-entropy, AdamW and a one-cycle schedule, seeded; the
-   dataset's held-out shards (the region networks' own) measure it.
-4. **Export** (:func:`vc.model.export.export_facing`): the crop graph and the classifier as one ONNX graph, a frame
-   and the crops' rectangles in, a logit per person out.
+   or made monochrome (:func:`camera_look`), and mirrored half the time (a mirror keeps the front a front and turns
+   the face the other way).
+3. **Training**: :class:`FacingNet` with binary cross-entropy, and :class:`FaceTurnNet` with the squared error of
+   where the face points, each with AdamW and a one-cycle schedule, seeded; the dataset's held-out shards (the
+   region networks' own) measure them.
+4. **Export** (:func:`vc.model.export.export_facing`): the crop graph and both networks as one ONNX graph, a frame
+   and the crops' rectangles in, a logit and where the face points per person out.
 """
 
 from __future__ import annotations
@@ -36,7 +43,7 @@ from onnx import TensorProto, helper
 from torch import Tensor, nn
 from tqdm import tqdm
 
-from vc.deploy.facing import CROP_SIZE, FRAME_INPUT, ROIS_INPUT, crop_rois
+from vc.deploy.facing import CROP_SIZE, FACE_AHEAD_OF_EARS, FRAME_INPUT, ROIS_INPUT, crop_rois
 from vc.deploy.heatmaps import PAIRS
 from vc.io import read_image
 from vc.keypoints import COCO_KEYPOINTS
@@ -85,6 +92,13 @@ class FacingNet(nn.Module):
         return self.logit(self.features(crops).mean(dim=(2, 3))).squeeze(1)
 
 
+class FaceTurnNet(FacingNet):
+    """:class:`FacingNet` with its output through tanh: where the face points across the image, -1 to 1."""
+
+    def forward(self, crops: Tensor) -> Tensor:
+        return torch.tanh(super().forward(crops))
+
+
 def _stage(inputs: int, outputs: int) -> nn.Sequential:
     return nn.Sequential(nn.Conv2d(inputs, outputs, 3, padding=1, bias=False), nn.BatchNorm2d(outputs),
                          nn.ReLU(inplace=True))
@@ -101,6 +115,26 @@ class FacingCrops:
         return len(self.front)
 
 
+@dataclass(frozen=True)
+class TurnCrops:
+    """Crops (N, 64, 32, 3) uint8 and where each person's face points across the image (N,) float, -1 to 1."""
+
+    crops: np.ndarray
+    across: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.across)
+
+
+@dataclass(frozen=True)
+class PersonCrops:
+    """The crops of a set of renders, for each model its own: whole people facing the camera or away from it, and
+    whole people whose nose and ears are labelled."""
+
+    facing: FacingCrops
+    turn: TurnCrops
+
+
 def seen_from_front(annotation: dict) -> bool | None:
     """Whether a rendered person is seen from the front (their left shoulder and hip on the image's right), behind,
     or None in profile (step 1)."""
@@ -113,6 +147,18 @@ def seen_from_front(annotation: dict) -> bool | None:
     if abs(offset) < PROFILE_SHARE * height:
         return None
     return not order[0]
+
+
+def face_across(annotation: dict) -> float | None:
+    """Where a rendered person's face points across the image (step 1): the nose's horizontal offset from the ears'
+    midpoint over :data:`~vc.deploy.facing.FACE_AHEAD_OF_EARS`'s nose distance, clipped to -1 (in profile facing the
+    image's left) .. 1 (facing its right); None when the nose or an ear is not labelled."""
+    labels = np.reshape(annotation["keypoints"], (-1, 3))
+    nose, ears = COCO_KEYPOINTS.index("nose"), [COCO_KEYPOINTS.index(name) for name in ("left_ear", "right_ear")]
+    if labels[nose, 2] <= 0 or (labels[ears, 2] <= 0).any():
+        return None
+    offset = (labels[nose, 0] - labels[ears, 0].mean()) / annotation["amodal_bbox"][3]
+    return float(np.clip(offset / FACE_AHEAD_OF_EARS["nose"], -1.0, 1.0))
 
 
 #: The crop graph's output, the classifier's input.
@@ -150,32 +196,36 @@ def crop_graph() -> onnx.ModelProto:
     return model
 
 
-def crops_of(samples: list[Sample]) -> FacingCrops:
-    """Every whole person of ``samples`` who faces the camera or away from it, cropped by :func:`crop_graph`
-    (step 1)."""
+def crops_of(samples: list[Sample]) -> PersonCrops:
+    """Every whole person of ``samples``, cropped by :func:`crop_graph` (step 1): those facing the camera or away
+    from it for the facing classifier, those whose nose and ears are labelled for the face turn."""
     session = ort.InferenceSession(crop_graph().SerializeToString(), providers=["CPUExecutionProvider"])
-    crops, front = [], []
+    crops, front, across = [], [], []
     for sample in samples:
-        boxes, facing = [], []
+        boxes = []
         for annotation in sample.annotations:
             x, y, width, height = annotation["amodal_bbox"]
             if height < MIN_HEIGHT_PX or annotation["bbox"][3] < MIN_VISIBLE_SHARE * height:
                 continue
-            seen = seen_from_front(annotation)
-            if seen is not None:
+            seen, turned = seen_from_front(annotation), face_across(annotation)
+            if seen is not None or turned is not None:
                 boxes.append([x, y, x + width, y + height])
-                facing.append(seen)
+                front.append(seen)
+                across.append(turned)
         if not boxes:
             continue
         image = read_image(sample.image_path)  # the render alone: its instance map is not needed
         cut = session.run(None, {FRAME_INPUT: image[None], ROIS_INPUT: crop_rois(np.array(boxes))})[0]
         crops.append(np.clip(np.rint(cut.transpose(0, 2, 3, 1) * 255.0), 0, 255).astype(np.uint8))
-        front += facing
-    shape = (0, CROP_SIZE[1], CROP_SIZE[0], 3)
-    return FacingCrops(np.concatenate(crops) if crops else np.zeros(shape, np.uint8), np.array(front, bool))
+    every = np.concatenate(crops) if crops else np.zeros((0, CROP_SIZE[1], CROP_SIZE[0], 3), np.uint8)
+    facing = np.array([seen is not None for seen in front], bool)
+    turning = np.array([turned is not None for turned in across], bool)
+    return PersonCrops(FacingCrops(every[facing], np.array([seen for seen in front if seen is not None], bool)),
+                       TurnCrops(every[turning], np.array([turned for turned in across if turned is not None],
+                                                          np.float32)))
 
 
-def dataset_crops(dataset: Path) -> tuple[FacingCrops, FacingCrops]:
+def dataset_crops(dataset: Path) -> tuple[PersonCrops, PersonCrops]:
     """The training and held-out crops of every region of a rendered ``dataset``."""
     train, held_out = [], []
     for region in read_manifest(dataset).get("regions", {}):
@@ -185,8 +235,12 @@ def dataset_crops(dataset: Path) -> tuple[FacingCrops, FacingCrops]:
     return _joined(train), _joined(held_out)
 
 
-def _joined(parts: list[FacingCrops]) -> FacingCrops:
-    return FacingCrops(np.concatenate([part.crops for part in parts]), np.concatenate([part.front for part in parts]))
+def _joined(parts: list[PersonCrops]) -> PersonCrops:
+    return PersonCrops(
+        FacingCrops(np.concatenate([part.facing.crops for part in parts]),
+                    np.concatenate([part.facing.front for part in parts])),
+        TurnCrops(np.concatenate([part.turn.crops for part in parts]),
+                  np.concatenate([part.turn.across for part in parts])))
 
 
 def camera_look(crop: np.ndarray, rng: np.random.Generator) -> np.ndarray:
@@ -224,14 +278,62 @@ class FacingResult:
                 "seconds": round(self.seconds, 1)}
 
 
+@dataclass(frozen=True)
+class FaceTurnResult:
+    net: FaceTurnNet
+    held_out_error: float | None  # mean absolute error of where the held-out faces point; None without any
+    held_out_profile_sign: float | None  # share of held-out people in profile (|across| >= 0.5) read the right way
+    train_crops: int
+    held_out_crops: int
+    seconds: float
+
+    def to_dict(self) -> dict:
+        return {"held_out_error": None if self.held_out_error is None else round(self.held_out_error, 4),
+                "held_out_profile_sign": (None if self.held_out_profile_sign is None
+                                          else round(self.held_out_profile_sign, 4)),
+                "train_crops": self.train_crops, "held_out_crops": self.held_out_crops,
+                "seconds": round(self.seconds, 1)}
+
+
+def _outputs(net: FacingNet, crops: np.ndarray) -> np.ndarray:
+    net.eval()
+    with torch.no_grad():
+        return torch.cat([net(_batch(crops[start:start + 512])) for start in range(0, len(crops), 512)]).numpy()
+
+
 def accuracy(net: FacingNet, crops: FacingCrops) -> float | None:
     """The share of ``crops`` whose facing ``net`` reads right."""
     if not len(crops):
         return None
-    net.eval()
-    with torch.no_grad():
-        logits = torch.cat([net(_batch(crops.crops[start:start + 512])) for start in range(0, len(crops), 512)])
-    return float(((logits.numpy() > 0) == crops.front).mean())
+    return float(((_outputs(net, crops.crops) > 0) == crops.front).mean())
+
+
+def _fit(net: FacingNet, crops: np.ndarray, targets: np.ndarray, loss_of: nn.Module, mirror_sign: float,
+         seed: int, epochs: int, show_progress: bool, description: str) -> None:
+    """Step 3 for either network: ``epochs`` over ``crops`` in the camera's look, each mirrored half the time, its
+    target then times ``mirror_sign`` (1: a mirror keeps it, -1: a mirror turns it round)."""
+    rng = np.random.default_rng(seed)
+    steps_per_epoch = len(crops) // BATCH
+    optimiser = torch.optim.AdamW(net.parameters(), LEARNING_RATE / 1.5, weight_decay=1e-4)
+    schedule = torch.optim.lr_scheduler.OneCycleLR(optimiser, LEARNING_RATE, total_steps=epochs * steps_per_epoch)
+    labels = torch.from_numpy(targets.astype(np.float32))
+    with tqdm(total=epochs * steps_per_epoch, desc=description, unit="step", disable=not show_progress,
+              leave=False) as bar:
+        for _ in range(epochs):
+            net.train()
+            order = rng.permutation(len(crops))
+            for step in range(steps_per_epoch):
+                chosen = order[step * BATCH:(step + 1) * BATCH]
+                looks = np.stack([camera_look(crop, rng) for crop in crops[chosen]])
+                mirrored = rng.random(len(chosen)) < 0.5
+                looks[mirrored] = looks[mirrored, :, ::-1]
+                target = labels[chosen] * torch.from_numpy(np.where(mirrored, mirror_sign, 1.0).astype(np.float32))
+                loss = loss_of(net(_batch(looks)), target)
+                optimiser.zero_grad()
+                loss.backward()
+                optimiser.step()
+                schedule.step()
+                bar.update()
 
 
 def train_facing(train: FacingCrops, held_out: FacingCrops, seed: int, epochs: int = EPOCHS,
@@ -243,27 +345,27 @@ def train_facing(train: FacingCrops, held_out: FacingCrops, seed: int, epochs: i
                          f"{BATCH} or more")
     start = time.perf_counter()
     torch.manual_seed(seed)
-    rng = np.random.default_rng(seed)
     net = FacingNet()
-    steps_per_epoch = len(train) // BATCH
-    optimiser = torch.optim.AdamW(net.parameters(), LEARNING_RATE / 1.5, weight_decay=1e-4)
-    schedule = torch.optim.lr_scheduler.OneCycleLR(optimiser, LEARNING_RATE, total_steps=epochs * steps_per_epoch)
-    loss_of = nn.BCEWithLogitsLoss()
-    labels = torch.from_numpy(train.front.astype(np.float32))
-    with tqdm(total=epochs * steps_per_epoch, desc="facing", unit="step", disable=not show_progress,
-              leave=False) as bar:
-        for _ in range(epochs):
-            net.train()
-            order = rng.permutation(len(train))
-            for step in range(steps_per_epoch):
-                chosen = order[step * BATCH:(step + 1) * BATCH]
-                looks = np.stack([camera_look(crop, rng) for crop in train.crops[chosen]])
-                mirrored = rng.random(len(chosen)) < 0.5
-                looks[mirrored] = looks[mirrored, :, ::-1]
-                loss = loss_of(net(_batch(looks)), labels[chosen])
-                optimiser.zero_grad()
-                loss.backward()
-                optimiser.step()
-                schedule.step()
-                bar.update()
+    _fit(net, train.crops, train.front, nn.BCEWithLogitsLoss(), 1.0, seed, epochs, show_progress, "facing")
     return FacingResult(net, accuracy(net, held_out), len(train), len(held_out), time.perf_counter() - start)
+
+
+def train_face_turn(train: TurnCrops, held_out: TurnCrops, seed: int, epochs: int = EPOCHS,
+                    show_progress: bool = True) -> FaceTurnResult:
+    """Train a :class:`FaceTurnNet` on ``train`` and measure it on ``held_out`` (step 3); the same ``seed`` gives
+    the same weights on one kind of CPU."""
+    if len(train) < BATCH:
+        raise ValueError(f"{len(train)} rendered people have their nose and ears labelled; the face turn needs "
+                         f"{BATCH} or more")
+    start = time.perf_counter()
+    torch.manual_seed(seed)
+    net = FaceTurnNet()
+    _fit(net, train.crops, train.across, nn.MSELoss(), -1.0, seed, epochs, show_progress, "face turn")
+    error = profile_sign = None
+    if len(held_out):
+        read = _outputs(net, held_out.crops)
+        error = float(np.abs(read - held_out.across).mean())
+        profile = np.abs(held_out.across) >= 0.5
+        if profile.any():
+            profile_sign = float((np.sign(read[profile]) == np.sign(held_out.across[profile])).mean())
+    return FaceTurnResult(net, error, profile_sign, len(train), len(held_out), time.perf_counter() - start)

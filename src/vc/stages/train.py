@@ -14,7 +14,14 @@ from vc.evaluation.plots import plot_precision_recall
 from vc.io import atomic_path, write_json
 from vc.model.camera_range import plan_lines
 from vc.model.export import export_facing
-from vc.model.facing import FACING_MODEL, FACING_REPORT, MIN_FACING_CROPS, dataset_crops, train_facing
+from vc.model.facing import (
+    FACING_MODEL,
+    FACING_REPORT,
+    MIN_FACING_CROPS,
+    dataset_crops,
+    train_face_turn,
+    train_facing,
+)
 from vc.model.trainer import RegionResult, TrainConfig, data_workers, select_device
 from vc.render.dataset import read_manifest
 from vc.stages.config import TrainSettings
@@ -75,24 +82,31 @@ def train(dataset: Path, run: Path, settings: TrainSettings, region_names: list[
 
 
 def train_facing_model(dataset: Path, run: Path, seed: int, show_progress: bool = True) -> dict:
-    """Train the facing model on ``dataset``'s renders into ``RUN/facing.onnx`` (:mod:`vc.model.facing`), or keep
-    the one an earlier invocation trained there on the same renders with the same seed; what it measured
-    (``RUN/facing.json``), or why there is none."""
+    """Train the facing model on ``dataset``'s renders into ``RUN/facing.onnx`` (:mod:`vc.model.facing`): the facing
+    classifier and, beside it, the face turn. Or keep the one an earlier invocation trained there on the same
+    renders with the same seed; what it measured (``RUN/facing.json``), or why there is none."""
     model, report = run / FACING_MODEL, run / FACING_REPORT
     manifest = read_manifest(dataset)
-    trained_on = {"scene_hash": manifest["scene_hash"], "dataset_settings": manifest.get("settings"), "seed": seed}
+    trained_on = {"scene_hash": manifest["scene_hash"], "dataset_settings": manifest.get("settings"), "seed": seed,
+                  "reads": ["facing", "face turn"]}  # a facing model trained before the face turn is trained again
     if model.is_file() and report.is_file():
         earlier = json.loads(report.read_text())
         if earlier.get("trained_on") == trained_on:
             return earlier
     train, held_out = dataset_crops(dataset)
-    if len(train) < MIN_FACING_CROPS:
-        return {"skipped": f"{len(train)} rendered people face the camera or away from it; the facing model needs "
-                           f"{MIN_FACING_CROPS} or more (render more samples)"}
-    result = train_facing(train, held_out, seed, show_progress=show_progress)
+    if len(train.facing) < MIN_FACING_CROPS:
+        return {"skipped": f"{len(train.facing)} rendered people face the camera or away from it; the facing model "
+                           f"needs {MIN_FACING_CROPS} or more (render more samples)"}
+    result = train_facing(train.facing, held_out.facing, seed, show_progress=show_progress)
+    turn = None
+    if len(train.turn) >= MIN_FACING_CROPS:
+        turn = train_face_turn(train.turn, held_out.turn, seed, show_progress=show_progress)
     with atomic_path(model) as temporary:
-        temporary.write_bytes(export_facing(result.net))
-    measured = {**result.to_dict(), "trained_on": trained_on}
+        temporary.write_bytes(export_facing(result.net, None if turn is None else turn.net))
+    turned = turn.to_dict() if turn is not None else {
+        "skipped": f"{len(train.turn)} rendered people have their nose and ears labelled; the face turn needs "
+                   f"{MIN_FACING_CROPS} or more"}
+    measured = {**result.to_dict(), "face_turn": turned, "trained_on": trained_on}
     write_json(report, measured)
     return measured
 
