@@ -1,11 +1,13 @@
 """Crops cut from the boxes a bundle's own region networks draw on its compile's renders, matched to the rendered
 people (IoU >= 0.5, score >= 0.3), labelled by where each face points (frozen probe of decision 0038).
 
-    PYTHONPATH=. python experiments/2026-12-01-face-turn/probe/detector_crops.py BUNDLE RENDERS OUT.npz
+    PYTHONPATH=. python experiments/2026-12-01-face-turn/probe/detector_crops.py BUNDLE RENDERS OUT.npz [front]
 
 A face points to the image's right (True) or left (False) when the rendered nose stands at least 0.03 of the
-person's height from the ears' midpoint; people nearer along the view are left out. OUT holds ``train_crops``,
-``train_front`` (the label, named as harness.py of 2026-11-30-facing-camera-look names it), and the held-out pair.
+person's height from the ears' midpoint; people nearer along the view are left out. With ``front``, the label is
+the facing classifier's instead (seen from the front: True; :func:`vc.model.facing.seen_from_front`). OUT holds
+``train_crops``, ``train_front`` (the label, named as harness.py of 2026-11-30-facing-camera-look names it), and the
+held-out pair.
 """
 
 from __future__ import annotations
@@ -43,6 +45,7 @@ def overlaps(box: np.ndarray, boxes: np.ndarray) -> np.ndarray:
 
 def main() -> None:
     bundle, renders, out = Path(sys.argv[1]), Path(sys.argv[2]), Path(sys.argv[3])
+    label_of = shipped.seen_from_front if sys.argv[4:] == ["front"] else points_right
     manifest = json.loads((bundle / "manifest.json").read_text())
     cut = ort.InferenceSession(shipped.crop_graph().SerializeToString(), providers=["CPUExecutionProvider"])
     parts: dict[str, tuple[list, list]] = {"train": ([], []), "held_out": ([], [])}
@@ -60,7 +63,7 @@ def main() -> None:
                     x, y, width, height = annotation["amodal_bbox"]
                     if height < shipped.MIN_HEIGHT_PX or annotation["bbox"][3] < shipped.MIN_VISIBLE_SHARE * height:
                         continue
-                    label = points_right(annotation)
+                    label = label_of(annotation)
                     if label is None:
                         continue
                     if not len(image.boxes):
