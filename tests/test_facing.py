@@ -66,6 +66,20 @@ def _turn_crops(count: int, seed: int) -> TurnCrops:
     return TurnCrops(crops, across)
 
 
+def _pasted(crops: np.ndarray, frame_size: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """A frame of ``frame_size`` (height, width) with each crop pasted at its own size, 10 px down and 45 px apart,
+    and the boxes (N, 4) whose crops are exactly those pixels."""
+    frame = np.zeros((*frame_size, 3), np.uint8)
+    boxes = []
+    for index, crop in enumerate(crops):
+        x = 10 + index * 45
+        frame[10:10 + CROP_SIZE[1], x:x + CROP_SIZE[0]] = crop
+        height = CROP_SIZE[1] / CROP_MARGIN
+        top = 10 + (CROP_SIZE[1] - height) / 2 - 0.5
+        boxes.append([x - 0.5, top, x + CROP_SIZE[0] - 0.5, top + height])
+    return frame, np.array(boxes)
+
+
 @pytest.fixture(scope="module")
 def trained():
     torch.set_num_threads(1)
@@ -125,16 +139,9 @@ def test_the_classifier_learns_which_way_people_face_and_the_same_seed_gives_the
 
 def test_the_exported_model_reads_the_frame_as_the_network_reads_its_crops(trained):
     crops = _crops(4, 7)
-    frame = np.zeros((100, 200, 3), np.uint8)
-    boxes = []
-    for index, crop in enumerate(crops.crops):  # each person pasted at the crop's own size
-        x = 10 + index * 45
-        frame[10:10 + CROP_SIZE[1], x:x + CROP_SIZE[0]] = crop
-        height = CROP_SIZE[1] / CROP_MARGIN
-        top = 10 + (CROP_SIZE[1] - height) / 2 - 0.5
-        boxes.append([x - 0.5 + 0.0, top, x + CROP_SIZE[0] - 0.5, top + height])
+    frame, boxes = _pasted(crops.crops, (100, 200))
     reader = FacingReader(export_facing(trained.net))
-    reading = reader.read(frame, np.array(boxes))
+    reading = reader.read(frame, boxes)
     logits = reading.front_logits
     with torch.no_grad():
         expected = trained.net(torch.from_numpy(crops.crops).permute(0, 3, 1, 2).float() / 255.0).numpy()
@@ -320,15 +327,8 @@ def test_a_bundle_with_the_face_turn_turns_faces_each_frame(bundle, trained, tur
     reader = FacingReader(export)
     assert reader.reads_across
     crops = _turn_crops(3, 9)
-    frame = np.zeros((80, 120, 3), np.uint8)
-    boxes = []
-    for index, crop in enumerate(crops.crops):  # each person pasted at the crop's own size
-        x = 5 + index * 38
-        frame[8:8 + CROP_SIZE[1], x:x + CROP_SIZE[0]] = crop
-        height = CROP_SIZE[1] / CROP_MARGIN
-        top = 8 + (CROP_SIZE[1] - height) / 2 - 0.5
-        boxes.append([x - 0.5, top, x + CROP_SIZE[0] - 0.5, top + height])
-    across = reader.read(frame, np.array(boxes)).across
+    frame, boxes = _pasted(crops.crops, (80, 140))
+    across = reader.read(frame, boxes).across
     profile = crops.across != 0
     assert (np.sign(across[profile]) == np.sign(crops.across[profile])).all()
     assert (np.abs(across) <= 1.0).all()
