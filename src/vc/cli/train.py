@@ -6,8 +6,8 @@
 Writes ``RUN/checkpoints/<region>.pt`` (resumable: run the same command again after an interruption),
 ``RUN/metrics.json`` (held-out synthetic AP50, PCKh@0.5 overall and per keypoint, mask IoU, recall of people
 overlapping another, training speed, per region), ``RUN/precision_recall.png`` and, per region,
-``RUN/<region>/{precision_recall,training_loss}.png``, and the facing model with what it measured,
-``RUN/facing.{onnx,json}`` (:mod:`vc.model.facing`).
+``RUN/<region>/{precision_recall,training_loss}.png``, and the facing and keypoint models with what they measured,
+``RUN/facing.{onnx,json}`` (:mod:`vc.model.facing`) and ``RUN/crop_pose.{onnx,json}`` (:mod:`vc.model.crop_pose`).
 A scene planned with ``regions: {mode: single}`` has one region for its whole walkable area: training it is the
 paper's SPN-G. Bad input prints one ``error:`` line and exits with status 2.
 """
@@ -21,6 +21,7 @@ from vc import __version__
 from vc.cli.common import handles_input_errors, non_negative_int, positive_float, positive_int
 from vc.evaluation.metrics import Evaluation
 from vc.model.config import PRESETS
+from vc.model.crop_pose import CROP_POSE_MODEL
 from vc.model.facing import FACING_MODEL
 from vc.model.trainer import RegionResult
 from vc.stages.config import TrainSettings, train_settings
@@ -84,6 +85,10 @@ def report_results(results: list[RegionResult], run: Path) -> None:
     facing = read_metrics(run).get("facing") if (run / METRICS).is_file() else None
     if facing is not None:
         print(f"facing model: {_facing_line(facing)}" + ("" if "skipped" in facing else f" -> {run / FACING_MODEL}"))
+    crop_pose = read_metrics(run).get("crop_pose") if (run / METRICS).is_file() else None
+    if crop_pose is not None:
+        print(f"keypoint model: {_crop_pose_line(crop_pose)}"
+              + ("" if "skipped" in crop_pose else f" -> {run / CROP_POSE_MODEL}"))
     print(f"checkpoints in {run / 'checkpoints'}, metrics in {run / METRICS}")
 
 
@@ -102,6 +107,16 @@ def _facing_line(facing: dict) -> str:
         turned = (f"; face turn {turn['held_out_profile_sign']:.3f} of held-out profiles read pointing the right way "
                   f"(mean error {turn['held_out_error']:.3f})")
     return f"{measured} ({facing['train_crops']} trained on){turned}"
+
+
+def _crop_pose_line(crop_pose: dict) -> str:
+    """What the run's keypoint model measured (vc.model.crop_pose), or why it has none."""
+    if "skipped" in crop_pose:
+        return f"none: {crop_pose['skipped']}"
+    pckh = crop_pose["held_out_pckh"]
+    measured = (f"PCKh {pckh:.3f} on {crop_pose['held_out_crops']} held-out people" if pckh is not None
+                else "no held-out people to measure it on")
+    return f"{measured} ({crop_pose['train_crops']} trained on)"
 
 
 @handles_input_errors

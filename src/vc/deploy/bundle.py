@@ -27,6 +27,10 @@ also reads where faces point) names the facing model, which reads from each pers
 from the front or from behind, and where their face points (:mod:`vc.deploy.facing`); a bundle without it orders a
 person's left and right by its networks' handedness maps, as before.
 
+The manifest's optional ``crop_pose`` (``model``, ``model_sha256``, ``crop_size``, ``map_stride``) names the keypoint
+model, which reads each person's keypoints again from their own crop (:mod:`vc.deploy.crop_pose`); a bundle without
+it reports the keypoints its networks place, as before.
+
 The manifest's optional ``zones`` are the scene's named areas, in frame pixels or on the ground, that a service
 reports people entering and leaving (:mod:`vc.deploy.zones`); a malformed zone is refused by name.
 """
@@ -57,6 +61,8 @@ MODELS = "models"
 REFERENCE, REFERENCE_MEMBER = "reference", "reference/background.npz"
 #: The manifest's optional entry for the facing model, and the member it names in bundles vc-export writes.
 FACING, FACING_MEMBER = "facing", "models/facing.onnx"
+#: The manifest's optional entry for the keypoint model, and the member it names in bundles vc-export writes.
+CROP_POSE, CROP_POSE_MEMBER = "crop_pose", "models/crop_pose.onnx"
 #: Why a bundle without a reference reports its frames' fitness as unknown.
 NO_REFERENCE = ("the bundle carries no background reference (exported without its scene, or before scene fitness: "
                 "export the run again with vc-export --scene)")
@@ -89,6 +95,7 @@ class Bundle:
     fit_range: FitRange = BACKGROUND_ONLY  # how far a fit frame may depart from it (the module docstring)
     zones: tuple[Zone, ...] = ()  # the scene's named zones (vc.deploy.zones)
     facing: bytes | None = None  # the facing model (ONNX, vc.deploy.facing); None: not carried
+    crop_pose: bytes | None = None  # the keypoint model (ONNX, vc.deploy.crop_pose); None: not carried
 
     @property
     def frame_size(self) -> tuple[int, int]:
@@ -216,8 +223,12 @@ def load_bundle(path: str | Path, public_key: Path | bytes | None = None) -> Bun
     if FACING in manifest:  # optional: bundles exported before the facing model lack it, and load as before
         facing = _checked(files, _require(manifest, FACING, dict, f"{MANIFEST}: ", path), "model",
                           f"{MANIFEST}: {FACING}.")
+    crop_pose = None
+    if CROP_POSE in manifest:  # optional: bundles exported before the keypoint model lack it, and load as before
+        crop_pose = _checked(files, _require(manifest, CROP_POSE, dict, f"{MANIFEST}: ", path), "model",
+                             f"{MANIFEST}: {CROP_POSE}.")
     return Bundle(path, manifest, regions, _reference(files, manifest, path), _fit_range(manifest, path),
-                  tuple(zones_from_manifest(manifest, path)), facing)
+                  tuple(zones_from_manifest(manifest, path)), facing, crop_pose)
 
 
 def _fit_range(manifest: dict, path: Path) -> FitRange:

@@ -58,6 +58,17 @@ def crop_rois(boxes: np.ndarray) -> np.ndarray:
                     axis=1).astype(np.float32)
 
 
+def frame_part(frame: np.ndarray, rois: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The part of an (H, W, 3) ``frame`` that crops at ``rois`` (N, 4) reach, as a model's frame input (1, h, w, 3),
+    and the rectangles within it: only that part goes into a crop graph, whose cast and transpose cost per pixel."""
+    height, width = frame.shape[:2]
+    x0, y0 = (int(np.clip(np.floor(rois[:, index].min()) - 1, 0, limit)) for index, limit in ((0, width - 1),
+                                                                                               (1, height - 1)))
+    x1, y1 = (int(np.clip(np.ceil(rois[:, index].max()) + 1, low + 1, limit)) for index, low, limit in
+              ((2, x0, width), (3, y0, height)))
+    return np.ascontiguousarray(frame[None, y0:y1, x0:x1]), rois - np.array([x0, y0, x0, y0], np.float32)
+
+
 class FacingReading(NamedTuple):
     """What the facing model reads of N people: front logits (N,), and where each face points across the image
     (N,) in [-1, 1], or None from a model exported before it read that."""
@@ -78,15 +89,7 @@ class FacingReader:
         """What the model reads of the people in ``boxes`` (N, 4) of an (H, W, 3) uint8 ``frame``."""
         if not len(boxes):
             return FacingReading(np.zeros(0, np.float32), np.zeros(0, np.float32) if self.reads_across else None)
-        rois = crop_rois(boxes)
-        # only the part of the frame the crops reach goes into the graph (its cast and transpose cost per pixel)
-        height, width = frame.shape[:2]
-        x0, y0 = (int(np.clip(np.floor(rois[:, index].min()) - 1, 0, limit)) for index, limit in ((0, width - 1),
-                                                                                                   (1, height - 1)))
-        x1, y1 = (int(np.clip(np.ceil(rois[:, index].max()) + 1, low + 1, limit)) for index, low, limit in
-                  ((2, x0, width), (3, y0, height)))
-        part = np.ascontiguousarray(frame[None, y0:y1, x0:x1])
-        shifted = rois - np.array([x0, y0, x0, y0], np.float32)
+        part, shifted = frame_part(frame, crop_rois(boxes))
         outputs = [OUTPUT_NAME, ACROSS_OUTPUT] if self.reads_across else [OUTPUT_NAME]
         found = self.session.run(outputs, {FRAME_INPUT: part, ROIS_INPUT: shifted})
         return FacingReading(np.asarray(found[0]).reshape(-1),

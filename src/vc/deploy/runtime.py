@@ -53,6 +53,7 @@ from vc.deploy import native
 from vc.deploy.areas import ImageArea
 from vc.deploy.boxes import box_iou, foot_points
 from vc.deploy.bundle import NO_REFERENCE, Bundle, RegionEntry, load_bundle
+from vc.deploy.crop_pose import CropPoseReader, with_crop_keypoints
 from vc.deploy.decode import UPRIGHT_PRIOR, DecodeConfig, DecodedPerson, UprightPrior, decode
 from vc.deploy.engines import DEFAULT_ENGINE, checked_engine, graph_session
 from vc.deploy.exposure import BROUGHT_BACK_AGREEMENT, KEPT_CORRECTION_STOPS, correction_stops, exposed
@@ -168,10 +169,12 @@ class RegionRunner:
 
     def __init__(self, entry: RegionEntry, frame_size: tuple[int, int], threads: int,
                  weak_people_above: float | None = None, neighbour_areas: tuple[dict, ...] = (),
-                 engine: str = DEFAULT_ENGINE, decoder: str | None = None, facing: bytes | None = None) -> None:
+                 engine: str = DEFAULT_ENGINE, decoder: str | None = None, facing: bytes | None = None,
+                 crop_pose: bytes | None = None) -> None:
         self.entry = entry
-        # the bundle's facing model, a session per region: the regions run in threads of their own
+        # the bundle's facing and keypoint models, a session per region: the regions run in threads of their own
         self.facing = None if facing is None else FacingReader(facing, threads)
+        self.crop_pose = None if crop_pose is None else CropPoseReader(crop_pose, threads)
         self.decode = native.decode if checked_decoder(decoder) == "c" else decode
         self.owned_area = ImageArea(entry.owned_image_area)
         self.neighbour_areas = tuple(ImageArea(area) for area in neighbour_areas)  # the other regions' owned areas
@@ -205,19 +208,25 @@ class RegionRunner:
 
     def faced(self, frame: np.ndarray, people: list[Person]) -> list[Person]:
         """``people`` with their left and right ordered by the bundle's facing model where it has one, and their
-        face turned where it points (:mod:`vc.deploy.facing`); weak people, for a tracker's eyes only, keep the
-        networks' order and face."""
+        face turned where it points (:mod:`vc.deploy.facing`), then their keypoints read again from their crops by
+        its keypoint model where it has one (:mod:`vc.deploy.crop_pose`); weak people, for a tracker's eyes only,
+        keep the networks' order, face and keypoints."""
         read = [person for person in people if not person.weak and person.pair_handedness is not None]
-        if self.facing is None or not read:
+        if not read:
             return people
-        reading = self.facing.read(frame, np.array([person.box for person in read]))
-        for index, (person, logit) in enumerate(zip(read, reading.front_logits, strict=True)):
-            person.network_handedness = person.handedness
-            person.keypoints, person.pair_handedness = ordered_by_facing(person.keypoints, person.pair_handedness,
-                                                                         float(logit))
-            if reading.across is not None:
-                person.keypoints = face_ahead(person.keypoints, float(person.box[3] - person.box[1]),
-                                              float(reading.across[index]))
+        boxes = np.array([person.box for person in read])
+        if self.facing is not None:
+            reading = self.facing.read(frame, boxes)
+            for index, (person, logit) in enumerate(zip(read, reading.front_logits, strict=True)):
+                person.network_handedness = person.handedness
+                person.keypoints, person.pair_handedness = ordered_by_facing(person.keypoints,
+                                                                             person.pair_handedness, float(logit))
+                if reading.across is not None:
+                    person.keypoints = face_ahead(person.keypoints, float(person.box[3] - person.box[1]),
+                                                  float(reading.across[index]))
+        if self.crop_pose is not None:
+            for person, image_ordered in zip(read, self.crop_pose.read(frame, boxes), strict=True):
+                person.keypoints = with_crop_keypoints(person.keypoints, image_ordered, person.pair_handedness)
         return people
 
     def people_in(self, heatmaps: np.ndarray, config: DecodeConfig | None = None,
@@ -350,7 +359,7 @@ class Runtime:
         areas = [entry.owned_image_area for entry in self.bundle.regions]
         self.runners = [RegionRunner(entry, self.bundle.frame_size, per_region, weak_people_above,
                                      tuple(areas[:index] + areas[index + 1:]), engine, self.decoder,
-                                     self.bundle.facing)
+                                     self.bundle.facing, self.bundle.crop_pose)
                         for index, entry in enumerate(self.bundle.regions)]
         self.pool = ThreadPoolExecutor(max_workers=threads or cores) if parallel_regions else None
 

@@ -35,6 +35,8 @@ from vc.calibration.camera import camera_from_dict
 from vc.deploy.bundle import (
     BUNDLE_FORMAT,
     BUNDLE_FORMAT_VERSION,
+    CROP_POSE,
+    CROP_POSE_MEMBER,
     FACING,
     FACING_MEMBER,
     MANIFEST,
@@ -43,6 +45,8 @@ from vc.deploy.bundle import (
     REFERENCE_MEMBER,
     sha256,
 )
+from vc.deploy.crop_pose import CROP_SIZE as CROP_POSE_SIZE
+from vc.deploy.crop_pose import MAP_STRIDE, MAPS_OUTPUT
 from vc.deploy.decoder_file import DECODER_FILE, decoder_file
 from vc.deploy.facing import ACROSS_OUTPUT, CROP_SIZE, FRAME_INPUT, ROIS_INPUT
 from vc.deploy.facing import OUTPUT_NAME as FACING_OUTPUT
@@ -54,6 +58,7 @@ from vc.io import atomic_directory, atomic_path, read_image
 from vc.keypoints import COCO_KEYPOINTS, COCO_SKELETON_1BASED
 from vc.model.camera_range import fit_range_of
 from vc.model.codec import expected_height_map
+from vc.model.crop_pose import CROP_POSE_MODEL, CROP_POSE_REPORT, CropPoseNet
 from vc.model.facing import CROPS, FACING_MODEL, FACING_OPSET, FACING_REPORT, FaceTurnNet, FacingNet, crop_graph
 from vc.model.network import ScenePoseNet
 from vc.model.operators import graph_operators, outside_conservative_set
@@ -131,6 +136,26 @@ def export_facing(net: FacingNet, turn: FaceTurnNet | None = None) -> bytes:
     crops = crop_graph()
     crops.ir_version = classifier.ir_version  # merged graphs share one IR version: the exporter's
     model = onnx.compose.merge_models(crops, classifier, io_map=[(CROPS, CROPS)])
+    onnx.checker.check_model(model)
+    return model.SerializeToString()
+
+
+def export_crop_pose(net: CropPoseNet) -> bytes:
+    """The keypoint model as a bundle ships it (:mod:`vc.model.crop_pose` step 4): :func:`crop_graph` at the model's
+    crop size feeding ``net``, the frame (1, H, W, 3) uint8 and the crops' rectangles (N, 4) in, the heat maps (N,
+    17, 48, 24) out."""
+    net.eval()
+    buffer = io.BytesIO()
+    example = torch.zeros(1, 3, CROP_POSE_SIZE[1], CROP_POSE_SIZE[0])
+    with torch.no_grad(), warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)  # the classic exporter announces its own retirement
+        torch.onnx.export(net, (example,), buffer, input_names=[CROPS], output_names=[MAPS_OUTPUT],
+                          dynamic_axes={CROPS: {0: "people"}, MAPS_OUTPUT: {0: "people"}},
+                          opset_version=FACING_OPSET, dynamo=False, do_constant_folding=True)
+    network = onnx.load_from_string(buffer.getvalue())
+    crops = crop_graph(CROP_POSE_SIZE)
+    crops.ir_version = network.ir_version  # merged graphs share one IR version: the exporter's
+    model = onnx.compose.merge_models(crops, network, io_map=[(CROPS, CROPS)])
     onnx.checker.check_model(model)
     return model.SerializeToString()
 
@@ -287,6 +312,8 @@ def bundle_files(run: Path, precision: str = "fp32", eval_samples: int = 200, ca
     manifest = {**manifest, "decoder_file": DECODER_FILE, "decoder_file_sha256": sha256(files[DECODER_FILE])}
     if (run / FACING_MODEL).is_file():  # trained by vc-train (vc.model.facing)
         manifest, files = with_facing(manifest, files, run)
+    if (run / CROP_POSE_MODEL).is_file():  # trained by vc-train (vc.model.crop_pose)
+        manifest, files = with_crop_pose(manifest, files, run)
     if scene is not None:
         reference, background = scene_reference(scene), read_image(scene.image_path)
         frames = video_frames(scene) if scene.video_path is not None else []
@@ -311,6 +338,16 @@ def with_facing(manifest: dict, files: dict[str, bytes], run: Path) -> tuple[dic
              **({"across_output": ACROSS_OUTPUT, "face_turn_held_out_error": turn.get("held_out_error")}
                 if isinstance(turn, dict) and "held_out_error" in turn else {})}
     return {**manifest, FACING: entry}, {**files, FACING_MEMBER: model}
+
+
+def with_crop_pose(manifest: dict, files: dict[str, bytes], run: Path) -> tuple[dict, dict[str, bytes]]:
+    """The bundle with the run's keypoint model (:mod:`vc.model.crop_pose`), fp32 like the facing model."""
+    model = (run / CROP_POSE_MODEL).read_bytes()
+    report = json.loads((run / CROP_POSE_REPORT).read_text()) if (run / CROP_POSE_REPORT).is_file() else {}
+    entry = {"model": CROP_POSE_MEMBER, "model_sha256": sha256(model), "crop_size": list(CROP_POSE_SIZE),
+             "map_stride": MAP_STRIDE, "inputs": [FRAME_INPUT, ROIS_INPUT], "output": MAPS_OUTPUT,
+             "pairs": "image order", "held_out_pckh": report.get("held_out_pckh")}
+    return {**manifest, CROP_POSE: entry}, {**files, CROP_POSE_MEMBER: model}
 
 
 def with_zones(manifest: dict, scene: Scene) -> dict:

@@ -165,10 +165,11 @@ def face_across(annotation: dict) -> float | None:
 CROPS = "crops"
 
 
-def crop_graph() -> onnx.ModelProto:
+def crop_graph(size: tuple[int, int] = CROP_SIZE) -> onnx.ModelProto:
     """The ONNX graph that cuts people's crops out of a frame (step 1 of :mod:`vc.deploy.facing`): the frame (1, H,
-    W, 3) uint8 and the rectangles (N, 4) in, the crops (N, 3, 64, 32) float in [0, 1] out, each bin the average of
-    :data:`CROP_SAMPLES` x :data:`CROP_SAMPLES` bilinear samples."""
+    W, 3) uint8 and the rectangles (N, 4) in, the crops (N, 3, height, width) float in [0, 1] out at ``size``
+    (width, height; the facing model's by default), each bin the average of :data:`CROP_SAMPLES` x
+    :data:`CROP_SAMPLES` bilinear samples."""
     nodes = [
         helper.make_node("Cast", [FRAME_INPUT], ["frame_float"], to=TensorProto.FLOAT),
         helper.make_node("Transpose", ["frame_float"], ["frame_nchw"], perm=[0, 3, 1, 2]),
@@ -178,7 +179,7 @@ def crop_graph() -> onnx.ModelProto:
         helper.make_node("ConstantOfShape", ["count_1d"], ["frame_index"],
                          value=helper.make_tensor("frame_0", TensorProto.INT64, [1], [0])),
         helper.make_node("RoiAlign", ["frame_nchw", ROIS_INPUT, "frame_index"], ["crops_255"], mode="avg",
-                         output_height=CROP_SIZE[1], output_width=CROP_SIZE[0], sampling_ratio=CROP_SAMPLES,
+                         output_height=size[1], output_width=size[0], sampling_ratio=CROP_SAMPLES,
                          spatial_scale=1.0,
                          coordinate_transformation_mode="half_pixel"),
         helper.make_node("Mul", ["crops_255", "one_over_255"], [CROPS]),
@@ -187,7 +188,7 @@ def crop_graph() -> onnx.ModelProto:
         nodes, "facing_crops",
         [helper.make_tensor_value_info(FRAME_INPUT, TensorProto.UINT8, [1, "height", "width", 3]),
          helper.make_tensor_value_info(ROIS_INPUT, TensorProto.FLOAT, ["people", 4])],
-        [helper.make_tensor_value_info(CROPS, TensorProto.FLOAT, ["people", 3, CROP_SIZE[1], CROP_SIZE[0]])],
+        [helper.make_tensor_value_info(CROPS, TensorProto.FLOAT, ["people", 3, size[1], size[0]])],
         initializer=[helper.make_tensor("zero", TensorProto.INT64, [], [0]),
                      helper.make_tensor("first_axis", TensorProto.INT64, [1], [0]),
                      helper.make_tensor("one_over_255", TensorProto.FLOAT, [], [1.0 / 255.0])])

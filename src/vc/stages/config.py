@@ -86,6 +86,9 @@ class TrainSettings(_Section):
     facing: bool = Field(True, description="also train the facing model, which reads from each person's crop "
                                            "whether they are seen from the front or from behind "
                                            "(vc.model.facing; a dataset with too few people skips it)")
+    crop_pose: bool = Field(False, description="also train the keypoint model, which reads each person's keypoints "
+                                              "again from their own crop (vc.model.crop_pose; a dataset with too "
+                                              "few whole people skips it)")
     centre_offset_weight: float = Field(LossWeights.centre_offsets, gt=0.0,
                                         description="the centre offsets' share of the loss (with centre_offsets): "
                                                     "lower leaves more of the network to the keypoint maps")

@@ -13,7 +13,9 @@ from vc.errors import InputError
 from vc.evaluation.plots import plot_precision_recall
 from vc.io import atomic_path, write_json
 from vc.model.camera_range import plan_lines
-from vc.model.export import export_facing
+from vc.model.crop_pose import CROP_POSE_MODEL, CROP_POSE_REPORT, MIN_CROP_POSE_CROPS, train_crop_pose
+from vc.model.crop_pose import dataset_crops as crop_pose_crops
+from vc.model.export import export_crop_pose, export_facing
 from vc.model.facing import (
     FACING_MODEL,
     FACING_REPORT,
@@ -55,6 +57,8 @@ class TrainingJob:
         metrics = _merged_metrics(run, manifest, self.dataset, self.device.type, results)
         if self.settings.facing:
             metrics["facing"] = train_facing_model(self.dataset, run, self.config.seed, show_progress and here)
+        if self.settings.crop_pose:
+            metrics["crop_pose"] = train_crop_pose_model(self.dataset, run, self.config.seed, show_progress and here)
         write_json(run / METRICS, metrics)
         plot_precision_recall({r.region: r.evaluation.evaluation for r in results}, run / "precision_recall.png",
                               f"{manifest['scene']}: held-out synthetic")
@@ -107,6 +111,29 @@ def train_facing_model(dataset: Path, run: Path, seed: int, show_progress: bool 
         "skipped": f"{len(train.turn)} rendered people have their nose and ears labelled; the face turn needs "
                    f"{MIN_FACING_CROPS} or more"}
     measured = {**result.to_dict(), "face_turn": turned, "trained_on": trained_on}
+    write_json(report, measured)
+    return measured
+
+
+def train_crop_pose_model(dataset: Path, run: Path, seed: int, show_progress: bool = True) -> dict:
+    """Train the keypoint model on ``dataset``'s renders into ``RUN/crop_pose.onnx`` (:mod:`vc.model.crop_pose`), or
+    keep the one an earlier invocation trained there on the same renders with the same seed; what it measured
+    (``RUN/crop_pose.json``), or why there is none."""
+    model, report = run / CROP_POSE_MODEL, run / CROP_POSE_REPORT
+    manifest = read_manifest(dataset)
+    trained_on = {"scene_hash": manifest["scene_hash"], "dataset_settings": manifest.get("settings"), "seed": seed}
+    if model.is_file() and report.is_file():
+        earlier = json.loads(report.read_text())
+        if earlier.get("trained_on") == trained_on:
+            return earlier
+    train, held_out = crop_pose_crops(dataset, seed)
+    if len(train) < MIN_CROP_POSE_CROPS:
+        return {"skipped": f"{len(train)} rendered people are seen whole; the keypoint model needs "
+                           f"{MIN_CROP_POSE_CROPS} or more (render more samples)"}
+    result = train_crop_pose(train, held_out, seed, show_progress=show_progress)
+    with atomic_path(model) as temporary:
+        temporary.write_bytes(export_crop_pose(result.net))
+    measured = {**result.to_dict(), "trained_on": trained_on}
     write_json(report, measured)
     return measured
 
