@@ -15,6 +15,7 @@ from vc.deploy.crop_pose import (
     CROP_SIZE,
     MAP_STRIDE,
     MAPS_OUTPUT,
+    PEAK_FLOOR,
     CropPoseReader,
     keypoints_of_maps,
     with_crop_keypoints,
@@ -129,6 +130,7 @@ def test_the_keypoints_take_the_order_the_persons_facing_gave_and_keep_their_con
     keypoints = np.zeros((17, 3))
     keypoints[:, 2] = np.linspace(0.1, 0.9, 17)
     image_ordered = np.tile(np.arange(17.0)[:, None], (1, 3))  # keypoint k at x = y = k
+    image_ordered[:, 2] = 1.0  # the model sure of each
     left, right = PAIRS[4]  # the wrists
     from_behind = with_crop_keypoints(keypoints, image_ordered, np.full(len(PAIRS), 0.7))
     from_front = with_crop_keypoints(keypoints, image_ordered, np.full(len(PAIRS), -0.7))
@@ -136,6 +138,10 @@ def test_the_keypoints_take_the_order_the_persons_facing_gave_and_keep_their_con
     assert from_front[left, 0] == right and from_front[right, 0] == left
     assert from_front[0, 0] == 0  # the nose is no pair
     np.testing.assert_array_equal(from_front[:, 2], keypoints[:, 2])
+    unsure = image_ordered.copy()
+    unsure[3, 2] = PEAK_FLOOR - 0.01  # an ear the model is not sure of keeps the network's place
+    assert with_crop_keypoints(keypoints, unsure, np.full(len(PAIRS), 0.7))[3, 0] == keypoints[3, 0]
+    assert with_crop_keypoints(keypoints, unsure, np.full(len(PAIRS), 0.7))[4, 0] == 4.0
     crossed = keypoints.copy()
     crossed[left, 0], crossed[right, 0] = 5.0, 1.0  # no handedness: the person's own x order stands in
     assert with_crop_keypoints(crossed, image_ordered, None)[left, 0] == right
@@ -164,7 +170,11 @@ def test_rendered_people_are_cut_with_their_keypoints_where_the_crop_shows_them(
     assert np.median(crops.heights) == pytest.approx(CROP_SIZE[1] / CROP_MARGIN, rel=0.15)
 
 
-def test_a_bundle_carries_its_keypoint_model_checked_and_the_runtime_reads_people_again(bundle, trained, tmp_path):
+def test_a_bundle_carries_its_keypoint_model_checked_and_the_runtime_reads_people_again(bundle, trained, tmp_path,
+                                                                                          monkeypatch):
+    import vc.deploy.crop_pose
+
+    monkeypatch.setattr(vc.deploy.crop_pose, "PEAK_FLOOR", -1.0)  # two training steps: sure of nothing yet
     crops = _crops(1, 9)
     frame, boxes = _pasted(crops.crops, (110, 128))
     keypoints = np.zeros((17, 3))
@@ -245,3 +255,12 @@ def test_an_exported_bundle_ships_the_runs_keypoint_model(trained_run, trained, 
 
 def test_the_keypoint_model_is_small():
     assert sum(parameter.numel() for parameter in CropPoseNet().parameters()) < 250_000
+
+
+def test_the_keypoint_model_is_a_compile_option_off_by_default():
+    from vc.cli.train import _parser
+    from vc.stages.config import PRESETS, TrainSettings
+
+    assert not TrainSettings().crop_pose  # docs/decisions/0039-keypoints-from-the-crop.md
+    assert not any(preset.train.crop_pose for preset in PRESETS.values())
+    assert _parser().parse_args(["renders", "-o", "run", "--crop-pose"]).crop_pose

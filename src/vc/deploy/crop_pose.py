@@ -1,10 +1,10 @@
 """Each person's keypoints read again from their own crop by the bundle's keypoint model (numpy and onnxruntime only).
 
 The region networks find people and place their keypoints in one pass over the whole region, at the size their
-people are planned at. Their limbs are where they are weakest, on their own renders too: TUD-Stadtmitte's r0 places
-wrists within half a head size for 0.55 of its held-out people, ankles 0.49. A network that sees one person, cut from
-the frame at its own resolution, places them for 0.68-0.74 and reads real people closer to the reference
-(docs/decisions/0039-keypoints-from-the-crop.md).
+people are planned at. A network that sees one person at a time, cut from the frame, reads TUD-Stadtmitte's people
+closer to the reference pose model (each frame and tracked, every seed and both halves) but PETS09's small people
+seen from above further from it, at about 1.3x a frame: so it is a compile option, off by default
+(``train.crop_pose``; docs/decisions/0039-keypoints-from-the-crop.md).
 
 1. Each person's crop is the rectangle the facing model cuts (:func:`vc.deploy.facing.crop_rois`: the box
    :data:`~vc.deploy.facing.CROP_MARGIN` taller, twice as tall as wide), sampled at :data:`CROP_SIZE` by the model's
@@ -14,8 +14,8 @@ the frame at its own resolution, places them for 0.68-0.74 and reads real people
 3. Each map's maximum is the keypoint, moved a quarter cell toward the larger of its neighbours on each axis, and
    mapped back to frame pixels (:func:`keypoints_of_maps`).
 4. The person's pairs take the order their facing already gave them (``pair_handedness``: > 0, the image-left member
-   is the left one), and the keypoints' places are replaced; their confidences stay the region network's
-   (:func:`with_crop_keypoints`).
+   is the left one), and the places of the keypoints the model is sure of (:data:`PEAK_FLOOR`) replace the region
+   network's; the confidences stay the region network's (:func:`with_crop_keypoints`).
 """
 
 from __future__ import annotations
@@ -33,6 +33,11 @@ CROP_SIZE = (48, 96)
 MAP_STRIDE = 2
 #: The model's output.
 MAPS_OUTPUT = "keypoint_maps"
+#: A keypoint the model reads replaces the network's only where its heat map's peak is at least this (the targets
+#: peak at 1): on PETS09's small people seen from above the model is unsure (peaks below it nearly everywhere) and
+#: reads them worse than the networks; on TUD-Stadtmitte's it is sure of most and reads them better. Chosen on both
+#: cameras' choosing halves over 0.2-0.5 (docs/decisions/0039-keypoints-from-the-crop.md).
+PEAK_FLOOR = 0.3
 
 
 def keypoints_of_maps(maps: np.ndarray, rois: np.ndarray) -> np.ndarray:
@@ -57,15 +62,18 @@ def keypoints_of_maps(maps: np.ndarray, rois: np.ndarray) -> np.ndarray:
 
 def with_crop_keypoints(keypoints: np.ndarray, image_ordered: np.ndarray,
                         pair_handedness: np.ndarray | None) -> np.ndarray:
-    """A person's keypoints (17, 3) with the places of the crop's ``image_ordered`` (17, 3), their pairs in the order
-    ``pair_handedness`` (8,) gives (> 0 or 0: the image-left member is the left one; None: the members' x order of
-    ``keypoints`` stands in); the confidences stay (step 4)."""
+    """A person's keypoints (17, 3) with the places of the crop's ``image_ordered`` (17, 3: x, y, peak) where the peak
+    is at least :data:`PEAK_FLOOR`, their pairs in the order ``pair_handedness`` (8,) gives (> 0 or 0: the
+    image-left member is the left one; None: the members' x order of ``keypoints`` stands in); the confidences stay
+    (step 4)."""
     if pair_handedness is None:
         left_is_image_left = np.array([keypoints[left, 0] <= keypoints[right, 0] for left, right in PAIRS])
     else:
         left_is_image_left = np.asarray(pair_handedness) >= 0
+    read = swap_pairs(image_ordered, ~left_is_image_left)
     replaced = keypoints.copy()
-    replaced[:, :2] = swap_pairs(image_ordered, ~left_is_image_left)[:, :2]
+    sure = read[:, 2] >= PEAK_FLOOR
+    replaced[sure, :2] = read[sure, :2]
     return replaced
 
 

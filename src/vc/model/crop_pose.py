@@ -3,9 +3,10 @@ keypoints again from their own crop (:mod:`vc.deploy.crop_pose` runs it).
 
 Why a model of its own: the region networks find people and place their keypoints in one pass over the region, and
 their limbs are where they are weakest, on their own held-out renders too (TUD-Stadtmitte's r0: wrists within half
-a head size 0.55, ankles 0.49). A network that sees one person at a time places them 0.68-0.74 on the same renders
-and agrees with the reference pose model on real people more often, each frame and tracked
-(docs/decisions/0039-keypoints-from-the-crop.md).
+a head size 0.55, ankles 0.49). A network that sees one person at a time places a held-out render's keypoints within
+half a head size 0.82 of the time on TUD-Stadtmitte (image order), and agrees with the reference pose model on its
+real people more often; on PETS09's small people seen from above it agrees less often. It is trained when
+``train.crop_pose`` asks for it, off by default (docs/decisions/0039-keypoints-from-the-crop.md).
 
 1. **Crops**: every rendered person seen whole (the facing model's :data:`~vc.model.facing.MIN_VISIBLE_SHARE` and
    :data:`~vc.model.facing.MIN_HEIGHT_PX`), cut by the crop graph at :data:`~vc.deploy.crop_pose.CROP_SIZE`
