@@ -3,8 +3,9 @@
 The region networks find people and place their keypoints in one pass over the whole region, at the size their
 people are planned at. A network that sees one person at a time, cut from the frame, reads TUD-Stadtmitte's people
 closer to the reference pose model (each frame and tracked, every seed and both halves) but PETS09's small people
-seen from above further from it, at about 1.3x a frame: so it is a compile option, off by default
-(``train.crop_pose``; docs/decisions/0039-keypoints-from-the-crop.md).
+seen from above further from it; read only where it is sure (:data:`PEAK_FLOOR`), it holds PETS09 level. At about
+1.3x a frame it is a compile option, off by default (``train.crop_pose``;
+docs/decisions/0039-keypoints-from-the-crop.md).
 
 1. Each person's crop is the rectangle the facing model cuts (:func:`vc.deploy.facing.crop_rois`: the box
    :data:`~vc.deploy.facing.CROP_MARGIN` taller, twice as tall as wide), sampled at :data:`CROP_SIZE` by the model's
