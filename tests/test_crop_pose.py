@@ -9,6 +9,7 @@ import shutil
 import numpy as np
 import pytest
 import torch
+from crop_factory import pasted
 
 from vc.deploy.bundle import CROP_POSE, MANIFEST, load_bundle, sha256
 from vc.deploy.crop_pose import (
@@ -58,20 +59,6 @@ def trained():
     return train_crop_pose(_crops(128, 0), _crops(32, 1), seed=3, epochs=1, show_progress=False)
 
 
-def _pasted(crops: np.ndarray, frame_size: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
-    """A frame of ``frame_size`` (height, width) with each crop pasted at its own size, 4 px down and 60 px apart,
-    and the boxes (N, 4) whose crops are exactly those pixels."""
-    frame = np.zeros((*frame_size, 3), np.uint8)
-    boxes = []
-    for index, crop in enumerate(crops):
-        x = 4 + index * 60
-        frame[4:4 + CROP_SIZE[1], x:x + CROP_SIZE[0]] = crop
-        height = CROP_SIZE[1] / CROP_MARGIN
-        top = 4 + (CROP_SIZE[1] - height) / 2 - 0.5
-        boxes.append([x - 0.5, top, x + CROP_SIZE[0] - 0.5, top + height])
-    return frame, np.array(boxes)
-
-
 def test_a_heat_maps_peak_is_read_back_at_the_frame_pixel_it_stands_for():
     rois = np.array([[100.0, 50.0, 148.0, 146.0], [10.0, 20.0, 34.0, 68.0]])  # crop pixels 1 and 0.5 frame px
     maps = np.zeros((2, 17, CROP_SIZE[1] // MAP_STRIDE, CROP_SIZE[0] // MAP_STRIDE), np.float32)
@@ -112,7 +99,7 @@ def test_a_mirror_moves_each_keypoint_across_and_exchanges_each_pairs_image_orde
 
 def test_the_exported_model_reads_the_frame_as_the_network_reads_its_crops(trained):
     crops = _crops(3, 7)
-    frame, boxes = _pasted(crops.crops, (110, 200))
+    frame, boxes = pasted(crops.crops, (110, 200), 4, 60)
     reader = CropPoseReader(export_crop_pose(trained.net))
     part, shifted = frame_part(frame, crop_rois(boxes))
     maps = reader.session.run([MAPS_OUTPUT], {FRAME_INPUT: part, ROIS_INPUT: shifted})[0]
@@ -176,7 +163,7 @@ def test_a_bundle_carries_its_keypoint_model_checked_and_the_runtime_reads_peopl
 
     monkeypatch.setattr(vc.deploy.crop_pose, "PEAK_FLOOR", -1.0)  # two training steps: sure of nothing yet
     crops = _crops(1, 9)
-    frame, boxes = _pasted(crops.crops, (110, 128))
+    frame, boxes = pasted(crops.crops, (110, 128), 4, 60)
     keypoints = np.zeros((17, 3))
     keypoints[:, 2] = 0.5
 

@@ -9,6 +9,7 @@ import numpy as np
 import onnxruntime as ort
 import pytest
 import torch
+from crop_factory import pasted
 
 from vc.deploy.bundle import FACING, MANIFEST, load_bundle
 from vc.deploy.facing import (
@@ -64,20 +65,6 @@ def _turn_crops(count: int, seed: int) -> TurnCrops:
         left = 14 + int(points) * 5
         crop[4:11, left:left + 4] = (225, 185, 150)
     return TurnCrops(crops, across)
-
-
-def _pasted(crops: np.ndarray, frame_size: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
-    """A frame of ``frame_size`` (height, width) with each crop pasted at its own size, 10 px down and 45 px apart,
-    and the boxes (N, 4) whose crops are exactly those pixels."""
-    frame = np.zeros((*frame_size, 3), np.uint8)
-    boxes = []
-    for index, crop in enumerate(crops):
-        x = 10 + index * 45
-        frame[10:10 + CROP_SIZE[1], x:x + CROP_SIZE[0]] = crop
-        height = CROP_SIZE[1] / CROP_MARGIN
-        top = 10 + (CROP_SIZE[1] - height) / 2 - 0.5
-        boxes.append([x - 0.5, top, x + CROP_SIZE[0] - 0.5, top + height])
-    return frame, np.array(boxes)
 
 
 @pytest.fixture(scope="module")
@@ -139,7 +126,7 @@ def test_the_classifier_learns_which_way_people_face_and_the_same_seed_gives_the
 
 def test_the_exported_model_reads_the_frame_as_the_network_reads_its_crops(trained):
     crops = _crops(4, 7)
-    frame, boxes = _pasted(crops.crops, (100, 200))
+    frame, boxes = pasted(crops.crops, (100, 200), 10, 45)
     reader = FacingReader(export_facing(trained.net))
     reading = reader.read(frame, boxes)
     logits = reading.front_logits
@@ -327,7 +314,7 @@ def test_a_bundle_with_the_face_turn_turns_faces_each_frame(bundle, trained, tur
     reader = FacingReader(export)
     assert reader.reads_across
     crops = _turn_crops(3, 9)
-    frame, boxes = _pasted(crops.crops, (80, 140))
+    frame, boxes = pasted(crops.crops, (80, 140), 10, 45)
     across = reader.read(frame, boxes).across
     profile = crops.across != 0
     assert (np.sign(across[profile]) == np.sign(crops.across[profile])).all()
