@@ -27,8 +27,8 @@ RUNTIME_MODULES = (
     # the camera model (numpy only): a bundle's people placed on the ground (deploy/zones.py)
     "calibration/__init__.py", "calibration/camera.py", "calibration/distortion.py",
     "deploy/__init__.py", "deploy/areas.py", "deploy/boxes.py", "deploy/bundle.py", "deploy/decode.py",
-    "deploy/engines.py", "deploy/exposure.py", "deploy/facing.py", "deploy/fitness.py", "deploy/frames.py",
-    "deploy/heatmaps.py",
+    "deploy/crop_pose.py", "deploy/engines.py", "deploy/exposure.py", "deploy/facing.py", "deploy/fitness.py",
+    "deploy/frames.py", "deploy/heatmaps.py",
     # the C decoder: its ctypes binding and its sources, built where the wheel is installed (python -m vc.deploy.native)
     "deploy/native.py", "deploy/native/vc_decode.h", "deploy/native/vc_decode.c", "deploy/native/vc_bundle.c",
     "deploy/registration.py", "deploy/runtime.py", "deploy/signing.py", "deploy/tracking.py", "deploy/veil.py",
