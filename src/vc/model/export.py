@@ -124,36 +124,29 @@ def export_facing(net: FacingNet, turn: FaceTurnNet | None = None) -> bytes:
     person (N,) out (and where each face points, (N,))."""
     module: nn.Module = net if turn is None else _FacingPair(net, turn)
     outputs = [FACING_OUTPUT] if turn is None else [FACING_OUTPUT, ACROSS_OUTPUT]
-    module.eval()
-    buffer = io.BytesIO()
-    example = torch.zeros(1, 3, CROP_SIZE[1], CROP_SIZE[0])
-    with torch.no_grad(), warnings.catch_warnings():
-        warnings.simplefilter("ignore", DeprecationWarning)  # the classic exporter announces its own retirement
-        torch.onnx.export(module, (example,), buffer, input_names=[CROPS], output_names=outputs,
-                          dynamic_axes={CROPS: {0: "people"}, **{name: {0: "people"} for name in outputs}},
-                          opset_version=FACING_OPSET, dynamo=False, do_constant_folding=True)
-    classifier = onnx.load_from_string(buffer.getvalue())
-    crops = crop_graph()
-    crops.ir_version = classifier.ir_version  # merged graphs share one IR version: the exporter's
-    model = onnx.compose.merge_models(crops, classifier, io_map=[(CROPS, CROPS)])
-    onnx.checker.check_model(model)
-    return model.SerializeToString()
+    return _reading_crops(module, CROP_SIZE, outputs)
 
 
 def export_crop_pose(net: CropPoseNet) -> bytes:
     """The keypoint model as a bundle ships it (:mod:`vc.model.crop_pose` step 4): :func:`crop_graph` at the model's
     crop size feeding ``net``, the frame (1, H, W, 3) uint8 and the crops' rectangles (N, 4) in, the heat maps (N,
     17, 48, 24) out."""
-    net.eval()
+    return _reading_crops(net, CROP_POSE_SIZE, [MAPS_OUTPUT])
+
+
+def _reading_crops(module: nn.Module, size: tuple[int, int], outputs: list[str]) -> bytes:
+    """One ONNX graph of :func:`crop_graph` at ``size`` (width, height) feeding ``module``, whose ``outputs`` each
+    hold one row per person."""
+    module.eval()
     buffer = io.BytesIO()
-    example = torch.zeros(1, 3, CROP_POSE_SIZE[1], CROP_POSE_SIZE[0])
+    example = torch.zeros(1, 3, size[1], size[0])
     with torch.no_grad(), warnings.catch_warnings():
         warnings.simplefilter("ignore", DeprecationWarning)  # the classic exporter announces its own retirement
-        torch.onnx.export(net, (example,), buffer, input_names=[CROPS], output_names=[MAPS_OUTPUT],
-                          dynamic_axes={CROPS: {0: "people"}, MAPS_OUTPUT: {0: "people"}},
+        torch.onnx.export(module, (example,), buffer, input_names=[CROPS], output_names=outputs,
+                          dynamic_axes={CROPS: {0: "people"}, **{name: {0: "people"} for name in outputs}},
                           opset_version=FACING_OPSET, dynamo=False, do_constant_folding=True)
     network = onnx.load_from_string(buffer.getvalue())
-    crops = crop_graph(CROP_POSE_SIZE)
+    crops = crop_graph(size)
     crops.ir_version = network.ir_version  # merged graphs share one IR version: the exporter's
     model = onnx.compose.merge_models(crops, network, io_map=[(CROPS, CROPS)])
     onnx.checker.check_model(model)
