@@ -16,6 +16,7 @@ from vc.deploy.crop_pose import (
     CROP_SIZE,
     MAP_STRIDE,
     MAPS_OUTPUT,
+    MIN_READ_HEIGHT_PX,
     PEAK_FLOOR,
     CropPoseReader,
     keypoints_of_maps,
@@ -31,6 +32,7 @@ from vc.model.crop_pose import (
     CropPoseNet,
     PoseCrops,
     crops_of,
+    dataset_crops,
     heatmap_targets,
     mirrored,
     train_crop_pose,
@@ -56,7 +58,7 @@ def trained():
     """Two training steps: enough to check the wiring; what the model learns is measured on renders
     (docs/decisions/0039-keypoints-from-the-crop.md), where it takes thousands."""
     torch.set_num_threads(1)
-    return train_crop_pose(_crops(128, 0), _crops(32, 1), seed=3, epochs=1, show_progress=False)
+    return train_crop_pose(_crops(128, 0), _crops(32, 1), seed=3, samples=128, show_progress=False)
 
 
 def test_a_heat_maps_peak_is_read_back_at_the_frame_pixel_it_stands_for():
@@ -83,7 +85,7 @@ def test_the_targets_read_back_where_the_keypoints_are():
 def test_training_measures_the_model_on_the_held_out_crops_and_the_same_seed_gives_the_same_weights(trained):
     assert trained.train_crops == 128 and trained.held_out_crops == 32
     assert 0.0 <= trained.held_out_pckh <= 1.0 and len(trained.held_out_pckh_per_keypoint) == 17
-    again = train_crop_pose(_crops(128, 0), _crops(32, 1), seed=3, epochs=1, show_progress=False)
+    again = train_crop_pose(_crops(128, 0), _crops(32, 1), seed=3, samples=128, show_progress=False)
     for name, value in trained.net.state_dict().items():
         assert torch.equal(value, again.net.state_dict()[name]), name
 
@@ -157,18 +159,35 @@ def test_rendered_people_are_cut_with_their_keypoints_where_the_crop_shows_them(
     assert np.median(crops.heights) == pytest.approx(CROP_SIZE[1] / CROP_MARGIN, rel=0.15)
 
 
+def test_a_compile_learns_from_the_people_tall_enough_in_its_frame_to_be_read(tmp_path):
+    from dataset_factory import write_dataset
+
+    from vc.render.dataset import open_region, read_manifest
+
+    data = write_dataset(tmp_path / "dataset")
+    region = read_manifest(data)["regions"]["r0"]
+    scale = region["input_size"][1] / region["crop_window"][3]
+    whole = crops_of(open_region(data, "r0").train, np.random.default_rng(0))
+    frame_heights = np.sort([annotation["amodal_bbox"][3] / scale for sample in open_region(data, "r0").train
+                             for annotation in sample.annotations])
+    gate = float(np.median(frame_heights))
+    train, held_out = dataset_crops(data, seed=0, min_frame_height=gate)
+    assert 0 < len(train) + len(held_out) and len(train) < len(whole)
+    assert len(dataset_crops(data, seed=0, min_frame_height=frame_heights[-1] + 1.0)[0]) == 0
+
+
 def test_a_bundle_carries_its_keypoint_model_checked_and_the_runtime_reads_people_again(bundle, trained, tmp_path,
                                                                                           monkeypatch):
     import vc.deploy.crop_pose
 
     monkeypatch.setattr(vc.deploy.crop_pose, "PEAK_FLOOR", -1.0)  # two training steps: sure of nothing yet
-    crops = _crops(1, 9)
-    frame, boxes = pasted(crops.crops, (110, 128), 4, 60)
+    tall = _crops(1, 9).crops.repeat(2, axis=1).repeat(2, axis=2)  # a person 175 px tall
+    frame, boxes = pasted(tall, (200, 128), 4, 60)
     keypoints = np.zeros((17, 3))
     keypoints[:, 2] = 0.5
 
-    def person(weak: bool = False) -> Person:
-        return Person(region="r0", score=0.9, box=boxes[0].copy(), keypoints=keypoints.copy(),
+    def person(weak: bool = False, box: np.ndarray = boxes[0]) -> Person:
+        return Person(region="r0", score=0.9, box=box.copy(), keypoints=keypoints.copy(),
                       mask=np.zeros((1, 1), bool), mask_origin=(0, 0), pair_handedness=np.full(len(PAIRS), 0.5),
                       weak=weak)
 
@@ -180,12 +199,14 @@ def test_a_bundle_carries_its_keypoint_model_checked_and_the_runtime_reads_peopl
     manifest[CROP_POSE] = {"model": "models/crop_pose.onnx", "model_sha256": sha256(model)}
     (read / MANIFEST).write_text(json.dumps(manifest))
     assert load_bundle(read).crop_pose == model and load_bundle(bundle).crop_pose is None
+    short_box = boxes[0] + np.array([0.0, 0.0, 0.0, MIN_READ_HEIGHT_PX - 1.0 - (boxes[0, 3] - boxes[0, 1])])
     with Runtime(read, threads=1) as runtime:
-        seen, weak = runtime.runners[0].faced(frame, [person(), person(weak=True)])
+        seen, weak, short = runtime.runners[0].faced(frame, [person(), person(weak=True), person(box=short_box)])
     expected = CropPoseReader(model).read(frame, boxes)[0]
     np.testing.assert_allclose(seen.keypoints[:, :2], expected[:, :2])  # seen from behind: image order is theirs
     np.testing.assert_array_equal(seen.keypoints[:, 2], keypoints[:, 2])
     np.testing.assert_array_equal(weak.keypoints, keypoints)  # a weak person, for a tracker's eyes, keeps its own
+    np.testing.assert_array_equal(short.keypoints, keypoints)  # too short for the model: the network's places
     with Runtime(bundle, threads=1) as plain:  # a bundle without the model keeps the networks' keypoints
         kept = plain.runners[0].faced(frame, [person()])[0]
     np.testing.assert_array_equal(kept.keypoints, keypoints)
@@ -213,7 +234,7 @@ def test_a_run_keeps_its_keypoint_model_only_for_the_renders_and_seed_it_was_tra
 
     def fake_train(train, held_out, seed, show_progress=True):
         trained_calls.append(seed)
-        return train_crop_pose(_crops(128, seed), _crops(16, 1), seed=seed, epochs=1, show_progress=False)
+        return train_crop_pose(_crops(128, seed), _crops(16, 1), seed=seed, samples=128, show_progress=False)
 
     monkeypatch.setattr(stage, "MIN_CROP_POSE_CROPS", 0)
     monkeypatch.setattr(stage, "train_crop_pose", fake_train)
@@ -244,10 +265,37 @@ def test_the_keypoint_model_is_small():
     assert sum(parameter.numel() for parameter in CropPoseNet().parameters()) < 250_000
 
 
-def test_the_keypoint_model_is_a_compile_option_off_by_default():
+def test_a_compile_trains_the_keypoint_model_where_most_of_its_people_are_tall_enough_to_be_read(tmp_path,
+                                                                                                 monkeypatch):
+    from dataset_factory import write_dataset
+
+    import vc.stages.train as stage
     from vc.cli.train import _parser
+    from vc.model.crop_pose import frame_heights
     from vc.stages.config import PRESETS, TrainSettings
 
-    assert not TrainSettings().crop_pose  # docs/decisions/0039-keypoints-from-the-crop.md
-    assert not any(preset.train.crop_pose for preset in PRESETS.values())
-    assert _parser().parse_args(["renders", "-o", "run", "--crop-pose"]).crop_pose
+    assert TrainSettings().crop_pose == "auto"  # docs/decisions/0040-keypoint-model-by-size.md
+    assert all(preset.train.crop_pose == "auto" for preset in PRESETS.values())
+    assert _parser().parse_args(["renders", "-o", "run"]).crop_pose == "auto"
+    assert _parser().parse_args(["renders", "-o", "run", "--no-crop-pose"]).crop_pose is False
+    data = write_dataset(tmp_path / "dataset")
+    heights = frame_heights(data)
+    run = tmp_path / "run"
+    run.mkdir()
+    (run / CROP_POSE_MODEL).write_bytes(b"a model from an earlier run")
+    gate = float(np.percentile(heights, 60))  # about 40 % tall enough
+    monkeypatch.setattr(stage, "MIN_READ_HEIGHT_PX", gate)
+    report = stage.train_crop_pose_model(data, run, seed=0, wanted="auto", show_progress=False)
+    assert f"{(heights >= gate).mean():.0%} of the scene's whole rendered people" in report["skipped"]
+    assert "train.crop_pose: true" in report["skipped"]
+    assert not (run / CROP_POSE_MODEL).exists()  # an export would have shipped it
+    trained = []
+    monkeypatch.setattr(stage, "MIN_READ_HEIGHT_PX", float(np.percentile(heights, 40)))  # 60 % tall enough
+    monkeypatch.setattr(stage, "MIN_CROP_POSE_CROPS", 0)
+    monkeypatch.setattr(stage, "train_crop_pose", lambda train, held_out, seed, show_progress=True: trained.append(
+        len(train)) or train_crop_pose(_crops(128, seed), _crops(16, 1), seed=seed, samples=128,
+                                       show_progress=False))
+    assert "skipped" not in stage.train_crop_pose_model(data, run, seed=0, wanted="auto", show_progress=False)
+    assert trained and (run / CROP_POSE_MODEL).is_file()
+    assert "not asked for" in stage.train_crop_pose_model(data, run, seed=0, wanted=False)["skipped"]
+    assert not (run / CROP_POSE_MODEL).exists()

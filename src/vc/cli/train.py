@@ -1,14 +1,16 @@
 """``vc-train``: one ScenePoseNet per region, trained on a ``vc-render`` dataset only.
 
     vc-train DATASET -o RUN [--region R ... | --all] [--arch A] [--width W] [--sb-units N] [--steps N]
-             [--batch-size B] [--seed K] [--centre-offsets [--offset-weight W]] [--crop-pose]
+             [--batch-size B] [--seed K] [--centre-offsets [--offset-weight W]]
+             [--crop-pose | --no-crop-pose]
 
 Writes ``RUN/checkpoints/<region>.pt`` (resumable: run the same command again after an interruption),
 ``RUN/metrics.json`` (held-out synthetic AP50, PCKh@0.5 overall and per keypoint, mask IoU, recall of people
 overlapping another, training speed, per region), ``RUN/precision_recall.png`` and, per region,
 ``RUN/<region>/{precision_recall,training_loss}.png``, and the facing and keypoint models with what they measured,
-``RUN/facing.{onnx,json}`` (:mod:`vc.model.facing`) and, with ``--crop-pose``, ``RUN/crop_pose.{onnx,json}``
-(:mod:`vc.model.crop_pose`).
+``RUN/facing.{onnx,json}`` (:mod:`vc.model.facing`) and ``RUN/crop_pose.{onnx,json}`` (:mod:`vc.model.crop_pose`:
+by default where most of the scene's people are tall enough for it; ``--crop-pose`` always, ``--no-crop-pose``
+never).
 A scene planned with ``regions: {mode: single}`` has one region for its whole walkable area: training it is the
 paper's SPN-G. Bad input prints one ``error:`` line and exits with status 2.
 """
@@ -53,8 +55,8 @@ def _parser() -> argparse.ArgumentParser:
                         help=TrainSettings.model_fields["centre_offsets"].description)
     parser.add_argument("--fine-centre", action="store_true",
                         help=TrainSettings.model_fields["fine_centre"].description)
-    parser.add_argument("--crop-pose", action="store_true",
-                        help=TrainSettings.model_fields["crop_pose"].description)
+    parser.add_argument("--crop-pose", action=argparse.BooleanOptionalAction, default=defaults.crop_pose,
+                        help=TrainSettings.model_fields["crop_pose"].description + f" (default {defaults.crop_pose})")
     parser.add_argument("--offset-weight", type=positive_float, default=defaults.centre_offset_weight,
                         metavar="W", help=TrainSettings.model_fields["centre_offset_weight"].description
                         + f" (default {defaults.centre_offset_weight:g})")

@@ -3,10 +3,12 @@
 The region networks find people and place their keypoints in one pass over the whole region, at the size their
 people are planned at. A network that sees one person at a time, cut from the frame, reads TUD-Stadtmitte's people
 closer to the reference pose model (each frame and tracked, every seed and both halves) but PETS09's small people
-seen from above further from it; read only where it is sure (:data:`PEAK_FLOOR`), it holds PETS09 level. At about
-1.3x a frame it is a compile option, off by default (``train.crop_pose``;
-docs/decisions/0039-keypoints-from-the-crop.md).
+seen from above further from it; read only where it is sure (:data:`PEAK_FLOOR`), it holds PETS09 level. It is read
+for people :data:`MIN_READ_HEIGHT_PX` and taller (:func:`worth_reading`), the only ones it changes, and a compile
+trains it where most of the scene's people are that tall (``train.crop_pose: auto``;
+docs/decisions/0039-keypoints-from-the-crop.md, docs/decisions/0040-keypoint-model-by-size.md).
 
+0. Only people at least :data:`MIN_READ_HEIGHT_PX` tall are read; the others keep the region network's keypoints.
 1. Each person's crop is the rectangle the facing model cuts (:func:`vc.deploy.facing.crop_rois`: the box
    :data:`~vc.deploy.facing.CROP_MARGIN` taller, twice as tall as wide), sampled at :data:`CROP_SIZE` by the model's
    own graph (ONNX RoiAlign, as the facing model does).
@@ -39,6 +41,11 @@ MAPS_OUTPUT = "keypoint_maps"
 #: reads them worse than the networks; on TUD-Stadtmitte's it is sure of most and reads them better. Chosen on both
 #: cameras' choosing halves over 0.2-0.5 (docs/decisions/0039-keypoints-from-the-crop.md).
 PEAK_FLOOR = 0.3
+#: People shorter than this in the frame (their box, pixels) keep the region networks' keypoints, and the model is
+#: not run for them: on PETS09's choosing half, reading its 95 % of people under it moved agreement with the
+#: reference by 0.000, at a crop each; TUD-Stadtmitte has nobody under it. The highest gate that keeps every gain on
+#: both cameras' choosing halves (docs/decisions/0040-keypoint-model-by-size.md).
+MIN_READ_HEIGHT_PX = 100.0
 
 
 def keypoints_of_maps(maps: np.ndarray, rois: np.ndarray) -> np.ndarray:
@@ -59,6 +66,13 @@ def keypoints_of_maps(maps: np.ndarray, rois: np.ndarray) -> np.ndarray:
     bin_y = (rois[:, 3] - rois[:, 1]) / CROP_SIZE[1]
     return np.stack([rois[:, 0, None] + crop_x * bin_x[:, None] - 0.5,
                      rois[:, 1, None] + crop_y * bin_y[:, None] - 0.5, peak], axis=-1)
+
+
+def worth_reading(boxes: np.ndarray) -> np.ndarray:
+    """Which of the people in ``boxes`` (N, 4: x0, y0, x1, y1) the model reads: those at least
+    :data:`MIN_READ_HEIGHT_PX` tall (N,) bool."""
+    boxes = np.asarray(boxes, np.float64).reshape(-1, 4)
+    return boxes[:, 3] - boxes[:, 1] >= MIN_READ_HEIGHT_PX
 
 
 def with_crop_keypoints(keypoints: np.ndarray, image_ordered: np.ndarray,

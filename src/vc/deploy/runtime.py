@@ -53,7 +53,7 @@ from vc.deploy import native
 from vc.deploy.areas import ImageArea
 from vc.deploy.boxes import box_iou, foot_points
 from vc.deploy.bundle import NO_REFERENCE, Bundle, RegionEntry, load_bundle
-from vc.deploy.crop_pose import CropPoseReader, with_crop_keypoints
+from vc.deploy.crop_pose import CropPoseReader, with_crop_keypoints, worth_reading
 from vc.deploy.decode import UPRIGHT_PRIOR, DecodeConfig, DecodedPerson, UprightPrior, decode
 from vc.deploy.engines import DEFAULT_ENGINE, checked_engine, graph_session
 from vc.deploy.exposure import BROUGHT_BACK_AGREEMENT, KEPT_CORRECTION_STOPS, correction_stops, exposed
@@ -209,8 +209,8 @@ class RegionRunner:
     def faced(self, frame: np.ndarray, people: list[Person]) -> list[Person]:
         """``people`` with their left and right ordered by the bundle's facing model where it has one, and their
         face turned where it points (:mod:`vc.deploy.facing`), then their keypoints read again from their crops by
-        its keypoint model where it has one (:mod:`vc.deploy.crop_pose`); weak people, for a tracker's eyes only,
-        keep the networks' order, face and keypoints."""
+        its keypoint model where it has one, for people tall enough for it (:mod:`vc.deploy.crop_pose`); weak
+        people, for a tracker's eyes only, keep the networks' order, face and keypoints."""
         read = [person for person in people if not person.weak and person.pair_handedness is not None]
         if not read:
             return people
@@ -224,8 +224,10 @@ class RegionRunner:
                 if reading.across is not None:
                     person.keypoints = face_ahead(person.keypoints, float(person.box[3] - person.box[1]),
                                                   float(reading.across[index]))
-        if self.crop_pose is not None:
-            for person, image_ordered in zip(read, self.crop_pose.read(frame, boxes), strict=True):
+        tall = worth_reading(boxes)
+        if self.crop_pose is not None and tall.any():
+            tall_people = [person for person, is_tall in zip(read, tall, strict=True) if is_tall]
+            for person, image_ordered in zip(tall_people, self.crop_pose.read(frame, boxes[tall]), strict=True):
                 person.keypoints = with_crop_keypoints(person.keypoints, image_ordered, person.pair_handedness)
         return people
 

@@ -86,11 +86,10 @@ class TrainSettings(_Section):
     facing: bool = Field(True, description="also train the facing model, which reads from each person's crop "
                                            "whether they are seen from the front or from behind "
                                            "(vc.model.facing; a dataset with too few people skips it)")
-    crop_pose: bool = Field(False, description="also train the keypoint model, which reads each person's keypoints "
-                                               "again from their own crop (vc.model.crop_pose): closer to the "
-                                               "reference on an eye-level camera's large people, further on "
-                                               "PETS09's small ones, about 1.3x a frame "
-                                               "(docs/decisions/0039-keypoints-from-the-crop.md)")
+    crop_pose: bool | Literal["auto"] = Field("auto", description="also train the keypoint model, which reads the "
+                                                "keypoints of people 100 px and taller again from their own crop "
+                                                "(vc.model.crop_pose); auto: where most of the scene's people are "
+                                                "that tall (docs/decisions/0040-keypoint-model-by-size.md)")
     centre_offset_weight: float = Field(LossWeights.centre_offsets, gt=0.0,
                                         description="the centre offsets' share of the loss (with centre_offsets): "
                                                     "lower leaves more of the network to the keypoint maps")

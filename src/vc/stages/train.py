@@ -6,14 +6,24 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Literal
 
 import torch
 
+from vc.deploy.crop_pose import MIN_READ_HEIGHT_PX
 from vc.errors import InputError
 from vc.evaluation.plots import plot_precision_recall
 from vc.io import atomic_path, write_json
 from vc.model.camera_range import plan_lines
-from vc.model.crop_pose import CROP_POSE_MODEL, CROP_POSE_REPORT, MIN_CROP_POSE_CROPS, train_crop_pose
+from vc.model.crop_pose import (
+    CROP_POSE_MODEL,
+    CROP_POSE_REPORT,
+    MIN_CROP_POSE_CROPS,
+    MIN_TALL_SHARE,
+    TRAINED_HEIGHT_SHARE,
+    frame_heights,
+    train_crop_pose,
+)
 from vc.model.crop_pose import dataset_crops as crop_pose_crops
 from vc.model.export import export_crop_pose, export_facing
 from vc.model.facing import (
@@ -57,8 +67,8 @@ class TrainingJob:
         metrics = _merged_metrics(run, manifest, self.dataset, self.device.type, results)
         if self.settings.facing:
             metrics["facing"] = train_facing_model(self.dataset, run, self.config.seed, show_progress and here)
-        if self.settings.crop_pose:
-            metrics["crop_pose"] = train_crop_pose_model(self.dataset, run, self.config.seed, show_progress and here)
+        metrics["crop_pose"] = train_crop_pose_model(self.dataset, run, self.config.seed, self.settings.crop_pose,
+                                                     show_progress and here)
         write_json(run / METRICS, metrics)
         plot_precision_recall({r.region: r.evaluation.evaluation for r in results}, run / "precision_recall.png",
                               f"{manifest['scene']}: held-out synthetic")
@@ -115,27 +125,50 @@ def train_facing_model(dataset: Path, run: Path, seed: int, show_progress: bool 
     return measured
 
 
-def train_crop_pose_model(dataset: Path, run: Path, seed: int, show_progress: bool = True) -> dict:
+def train_crop_pose_model(dataset: Path, run: Path, seed: int, wanted: bool | Literal["auto"] = True,
+                          show_progress: bool = True) -> dict:
     """Train the keypoint model on ``dataset``'s renders into ``RUN/crop_pose.onnx`` (:mod:`vc.model.crop_pose`), or
     keep the one an earlier invocation trained there on the same renders with the same seed; what it measured
-    (``RUN/crop_pose.json``), or why there is none."""
+    (``RUN/crop_pose.json``), or why there is none. ``wanted``: "auto" trains it where most of the scene's people
+    are tall enough to be read (:func:`crop_pose_not_called_for`). A run without one keeps none from before, which
+    an export would ship."""
     model, report = run / CROP_POSE_MODEL, run / CROP_POSE_REPORT
+    reason = ("not asked for (train.crop_pose: false)" if wanted is False
+              else crop_pose_not_called_for(dataset) if wanted == "auto" else None)
     manifest = read_manifest(dataset)
     trained_on = {"scene_hash": manifest["scene_hash"], "dataset_settings": manifest.get("settings"), "seed": seed}
-    if model.is_file() and report.is_file():
+    if reason is None and model.is_file() and report.is_file():
         earlier = json.loads(report.read_text())
         if earlier.get("trained_on") == trained_on:
             return earlier
-    train, held_out = crop_pose_crops(dataset, seed)
-    if len(train) < MIN_CROP_POSE_CROPS:
-        return {"skipped": f"{len(train)} rendered people are seen whole; the keypoint model needs "
-                           f"{MIN_CROP_POSE_CROPS} or more (render more samples)"}
+    if reason is None:
+        train, held_out = crop_pose_crops(dataset, seed, TRAINED_HEIGHT_SHARE * MIN_READ_HEIGHT_PX)
+        if len(train) < MIN_CROP_POSE_CROPS:
+            reason = (f"{len(train)} rendered people are seen whole and {TRAINED_HEIGHT_SHARE * MIN_READ_HEIGHT_PX:g}"
+                      f" px or taller in the frame; the keypoint model needs {MIN_CROP_POSE_CROPS} or more")
+    if reason is not None:
+        model.unlink(missing_ok=True)
+        report.unlink(missing_ok=True)
+        return {"skipped": reason}
     result = train_crop_pose(train, held_out, seed, show_progress=show_progress)
     with atomic_path(model) as temporary:
         temporary.write_bytes(export_crop_pose(result.net))
     measured = {**result.to_dict(), "trained_on": trained_on}
     write_json(report, measured)
     return measured
+
+
+def crop_pose_not_called_for(dataset: Path) -> str | None:
+    """Why a compile left to decide trains no keypoint model for ``dataset``'s scene, or None where it does: fewer
+    than :data:`~vc.model.crop_pose.MIN_TALL_SHARE` of its whole rendered people stand
+    :data:`~vc.deploy.crop_pose.MIN_READ_HEIGHT_PX` or taller in the frame, the only ones the model reads."""
+    heights = frame_heights(dataset)
+    share = float((heights >= MIN_READ_HEIGHT_PX).mean()) if len(heights) else 0.0
+    if share >= MIN_TALL_SHARE:
+        return None
+    return (f"{share:.0%} of the scene's whole rendered people stand {MIN_READ_HEIGHT_PX:g} px or taller in the "
+            f"frame, the only ones the keypoint model reads; it is trained where {MIN_TALL_SHARE:.0%} or more do "
+            "(train.crop_pose: true trains it anyway)")
 
 
 def read_metrics(run: Path) -> dict:
