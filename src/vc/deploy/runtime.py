@@ -224,10 +224,11 @@ class RegionRunner:
                 if reading.across is not None:
                     person.keypoints = face_ahead(person.keypoints, float(person.box[3] - person.box[1]),
                                                   float(reading.across[index]))
-        tall = worth_reading(boxes)
-        if self.crop_pose is not None and tall.any():
+        if self.crop_pose is not None:
+            tall = worth_reading(boxes)
             tall_people = [person for person, is_tall in zip(read, tall, strict=True) if is_tall]
-            for person, image_ordered in zip(tall_people, self.crop_pose.read(frame, boxes[tall]), strict=True):
+            readings = self.crop_pose.read(frame, boxes[tall])  # none read: no crop cut
+            for person, image_ordered in zip(tall_people, readings, strict=True):
                 person.keypoints = with_crop_keypoints(person.keypoints, image_ordered, person.pair_handedness)
         return people
 

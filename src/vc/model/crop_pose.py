@@ -123,6 +123,12 @@ class CropPoseNet(nn.Module):
         return self.maps(self.up_to_half(torch.cat([nn.functional.interpolate(quarter, scale_factor=2.0), half], 1)))
 
 
+def _seen_whole(annotation: dict) -> bool:
+    """A rendered person the model learns from: tall enough and seen whole (the facing model's thresholds)."""
+    amodal_height = annotation["amodal_bbox"][3]
+    return amodal_height >= MIN_HEIGHT_PX and annotation["bbox"][3] >= MIN_VISIBLE_SHARE * amodal_height
+
+
 def crops_of(samples: list[Sample], rng: np.random.Generator, min_height: float = 0.0) -> PoseCrops:
     """Every whole person of ``samples`` at least ``min_height`` render pixels tall, cut around a jittered box, with
     image-ordered labels (step 1)."""
@@ -130,8 +136,7 @@ def crops_of(samples: list[Sample], rng: np.random.Generator, min_height: float 
     crops, keypoints, heights = [], [], []
     for sample in samples:
         people = [annotation for annotation in sample.annotations
-                  if annotation["amodal_bbox"][3] >= max(MIN_HEIGHT_PX, min_height)
-                  and annotation["bbox"][3] >= MIN_VISIBLE_SHARE * annotation["amodal_bbox"][3]]
+                  if _seen_whole(annotation) and annotation["amodal_bbox"][3] >= min_height]
         if not people:
             continue
         boxes, labels = [], []
@@ -177,9 +182,7 @@ def frame_heights(dataset: Path) -> np.ndarray:
     for region, entry in read_manifest(dataset).get("regions", {}).items():
         to_frame = entry["crop_window"][3] / entry["input_size"][1]
         heights += [annotation["amodal_bbox"][3] * to_frame for sample in open_region(dataset, region).train
-                    for annotation in sample.annotations
-                    if annotation["amodal_bbox"][3] >= MIN_HEIGHT_PX
-                    and annotation["bbox"][3] >= MIN_VISIBLE_SHARE * annotation["amodal_bbox"][3]]
+                    for annotation in sample.annotations if _seen_whole(annotation)]
     return np.array(heights, np.float64)
 
 
