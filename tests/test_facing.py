@@ -13,14 +13,18 @@ from crop_factory import pasted
 
 from vc.deploy.bundle import FACING, MANIFEST, load_bundle
 from vc.deploy.facing import (
+    CLASSIFIER_WEIGHT_BELOW,
     CROP_MARGIN,
     CROP_SIZE,
     FACE_AHEAD_OF_EARS,
     FRAME_INPUT,
+    HEAD_OUTPUT,
+    HEAD_READ_BELOW_PX,
     ROIS_INPUT,
     FacingReader,
     crop_rois,
     face_ahead,
+    front_logits,
     ordered_by_facing,
 )
 from vc.deploy.heatmaps import PAIRS
@@ -30,14 +34,17 @@ from vc.model.export import export_facing, with_facing
 from vc.model.facing import (
     FACING_MODEL,
     FACING_REPORT,
+    HEAD_ROWS,
     FacingCrops,
     FacingNet,
     TurnCrops,
     crop_graph,
     face_across,
+    moved,
     seen_from_front,
     train_face_turn,
     train_facing,
+    train_head_colours,
 )
 from vc.stages.train import train_facing_model
 
@@ -77,6 +84,17 @@ def trained():
 def turned():
     torch.set_num_threads(1)
     return train_face_turn(_turn_crops(1024, 0), _turn_crops(128, 1), seed=3, epochs=4, show_progress=False)
+
+
+@pytest.fixture(scope="module")
+def headed():
+    torch.set_num_threads(1)
+    return train_head_colours(_crops(1024, 0), _crops(128, 1), seed=3)
+
+
+def _head_logits(head, crops: np.ndarray) -> np.ndarray:
+    with torch.no_grad():
+        return head.net(torch.from_numpy(np.ascontiguousarray(crops)).permute(0, 3, 1, 2).float() / 255.0).numpy()
 
 
 def test_the_crop_is_the_box_a_little_taller_and_twice_as_tall_as_wide():
@@ -122,6 +140,58 @@ def test_the_classifier_learns_which_way_people_face_and_the_same_seed_gives_the
     again = train_facing(_crops(1024, 0), _crops(128, 1), seed=3, epochs=4, show_progress=False)
     for mine, theirs in zip(trained.net.state_dict().values(), again.net.state_dict().values(), strict=True):
         assert torch.equal(mine, theirs)
+
+
+def test_the_head_reader_learns_from_the_heads_colours_and_the_same_seed_gives_the_same_weights(headed):
+    assert headed.held_out_accuracy >= 0.95 and headed.held_out_auc >= 0.98
+    again = train_head_colours(_crops(1024, 0), _crops(128, 1), seed=3)
+    assert torch.equal(headed.net.logit.weight, again.net.logit.weight)
+
+
+def test_the_head_reader_sees_only_the_head_and_not_how_bright_the_frame_is(headed):
+    crops = _crops(8, 5).crops
+    logits = _head_logits(headed, crops)
+    clothed = crops.copy()
+    clothed[:, HEAD_ROWS[1]:] = 255 - clothed[:, HEAD_ROWS[1]:]  # other clothes, other legs, other ground
+    np.testing.assert_allclose(_head_logits(headed, clothed), logits, atol=1e-5)
+    dimmer = np.rint(crops * 0.5 + 20).astype(np.uint8)  # a stop darker, and a little veiled
+    np.testing.assert_allclose(_head_logits(headed, dimmer), logits, atol=0.1 * np.abs(logits).max())
+
+
+def test_a_crop_moved_is_filled_from_its_own_edge():
+    crop = np.arange(6 * 4 * 3, dtype=np.uint8).reshape(6, 4, 3)
+    down = moved(crop, 2, 0)
+    np.testing.assert_array_equal(down[2:], crop[:-2])
+    np.testing.assert_array_equal(down[:2], crop[[0, 0]])
+    left = moved(crop, 0, -1)
+    np.testing.assert_array_equal(left[:, :-1], crop[:, 1:])
+    np.testing.assert_array_equal(left[:, -1], crop[:, -1])
+    np.testing.assert_array_equal(moved(crop, 0, 0), crop)
+
+
+def test_small_people_are_read_front_or_behind_by_their_heads_and_tall_ones_by_the_classifier():
+    classifier, head = np.array([4.0, 4.0, -2.0]), np.array([-1.0, -1.0, 0.5])
+    heights = np.array([HEAD_READ_BELOW_PX - 1, HEAD_READ_BELOW_PX, 50.0])
+    np.testing.assert_allclose(front_logits(classifier, head, heights),
+                               [-1.0 + CLASSIFIER_WEIGHT_BELOW * 4.0, 4.0, 0.5 - CLASSIFIER_WEIGHT_BELOW * 2.0])
+    np.testing.assert_array_equal(front_logits(classifier, None, heights), classifier)  # models before the head
+
+
+def test_the_exported_model_with_the_head_reads_small_people_by_it(trained, headed):
+    crops = _crops(4, 7)
+    frame, boxes = pasted(crops.crops, (100, 200), 10, 45)  # people 58 px tall
+    model = export_facing(trained.net, head=headed.net)
+    reading = FacingReader(model).read(frame, boxes)
+    session = ort.InferenceSession(model, providers=["CPUExecutionProvider"])
+    classifier, head = session.run(None, {FRAME_INPUT: frame[None], ROIS_INPUT: crop_rois(boxes)})
+    assert session.get_outputs()[1].name == HEAD_OUTPUT
+    np.testing.assert_allclose(reading.front_logits, head + CLASSIFIER_WEIGHT_BELOW * classifier, rtol=1e-5)
+    np.testing.assert_allclose(head, _head_logits(headed, crops.crops), rtol=0.1, atol=0.1)
+    assert ((reading.front_logits > 0) == crops.front).all()
+    tall = boxes.copy()
+    tall[:, 3] = tall[:, 1] + HEAD_READ_BELOW_PX  # the same crops' rectangles' centres, people the gate's height
+    tall_classifier = session.run(None, {FRAME_INPUT: frame[None], ROIS_INPUT: crop_rois(tall)})[0]
+    np.testing.assert_allclose(FacingReader(model).read(frame, tall).front_logits, tall_classifier, rtol=1e-5)
 
 
 def test_the_exported_model_reads_the_frame_as_the_network_reads_its_crops(trained):
@@ -212,26 +282,28 @@ def test_the_classifier_is_small():
     assert sum(parameter.numel() for parameter in FacingNet().parameters()) < 40_000
 
 
-def test_an_exported_bundle_ships_the_runs_facing_model(trained_run, trained, tmp_path):
+def test_an_exported_bundle_ships_the_runs_facing_model(trained_run, trained, headed, tmp_path):
     from vc.cli.export import main as vc_export
 
     run = tmp_path / "run"
     shutil.copytree(trained_run, run)
     shutil.copytree(trained_run.parent / "dataset", tmp_path / "dataset")  # the run names its dataset beside it
-    (run / FACING_MODEL).write_bytes(export_facing(trained.net))
-    (run / FACING_REPORT).write_text(json.dumps(trained.to_dict()))
+    (run / FACING_MODEL).write_bytes(export_facing(trained.net, head=headed.net))
+    (run / FACING_REPORT).write_text(json.dumps({**trained.to_dict(), "head_colours": headed.to_dict()}))
     assert vc_export([str(run), "-o", str(tmp_path / "bundle"), "--quiet"]) == 0
     manifest = json.loads((tmp_path / "bundle" / MANIFEST).read_text())
     assert manifest[FACING]["held_out_accuracy"] == trained.to_dict()["held_out_accuracy"]
+    assert manifest[FACING]["head_output"] == HEAD_OUTPUT
+    assert manifest[FACING]["head_held_out_auc"] == headed.to_dict()["held_out_auc"]
     assert load_bundle(tmp_path / "bundle").facing == (run / FACING_MODEL).read_bytes()
 
 
-def test_boxes_of_no_size_or_beyond_the_frame_read_a_finite_facing(trained):
-    reader = FacingReader(export_facing(trained.net))
+def test_boxes_of_no_size_or_beyond_the_frame_read_a_finite_facing(trained, headed):
     frame = np.zeros((100, 120, 3), np.uint8)
     boxes = np.array([[10.0, 10.0, 10.0, 10.0], [10.0, 10.0, 20.0, 10.0], [-50.0, -50.0, -10.0, -10.0],
                       [110.0, 90.0, 130.0, 140.0], [0.0, 0.0, 119.0, 99.0]])
-    assert np.isfinite(reader.read(frame, boxes).front_logits).all()
+    for model in (export_facing(trained.net), export_facing(trained.net, head=headed.net)):
+        assert np.isfinite(FacingReader(model).read(frame, boxes).front_logits).all()  # a flat head reads its bias
 
 
 def test_a_run_keeps_its_facing_model_only_for_the_renders_and_seed_it_was_trained_on(tmp_path, monkeypatch):
@@ -249,11 +321,18 @@ def test_a_run_keeps_its_facing_model_only_for_the_renders_and_seed_it_was_train
     def fake_turn(train, held_out, seed, show_progress=True):
         return train_face_turn(_turn_crops(256, seed), _turn_crops(64, 1), seed=seed, epochs=1, show_progress=False)
 
+    def fake_head(train, held_out, seed):
+        return train_head_colours(_crops(256, seed), _crops(64, 1), seed=seed)
+
     monkeypatch.setattr(stage, "MIN_FACING_CROPS", 0)
     monkeypatch.setattr(stage, "train_facing", fake_train)
     monkeypatch.setattr(stage, "train_face_turn", fake_turn)
+    monkeypatch.setattr(stage, "train_head_colours", fake_head)
     run = tmp_path / "run"
     first = stage.train_facing_model(data, run, seed=0, show_progress=False)
+    assert first["head_colours"]["held_out_auc"] > 0.9
+    outputs = [output.name for output in ort.InferenceSession((run / FACING_MODEL).read_bytes()).get_outputs()]
+    assert outputs[-1] == HEAD_OUTPUT
     assert stage.train_facing_model(data, run, seed=0, show_progress=False) == first  # resumed: kept
     stage.train_facing_model(data, run, seed=1, show_progress=False)  # another seed: trained again
     assert trained_calls == [0, 1]

@@ -111,7 +111,10 @@ def _facing_line(facing: dict) -> str:
     elif turn.get("held_out_profile_sign") is not None:
         turned = (f"; face turn {turn['held_out_profile_sign']:.3f} of held-out profiles read pointing the right way "
                   f"(mean error {turn['held_out_error']:.3f})")
-    return f"{measured} ({facing['train_crops']} trained on){turned}"
+    head = facing.get("head_colours", {})
+    headed = (f"; head's colours AUC {head['held_out_auc']:.3f} on held-out people"
+              if head.get("held_out_auc") is not None else "")
+    return f"{measured} ({facing['train_crops']} trained on){turned}{headed}"
 
 
 def _crop_pose_line(crop_pose: dict) -> str:

@@ -14,6 +14,11 @@ the image: where the networks cannot tell, they put the nose between the ears, w
    samples spread over it (onnxruntime's C++, one call a frame; numpy resampling per person cost 0.6 ms each).
 2. Its outputs are one logit per person, > 0 seen from the front, and, from models exported since 0038, where the
    face points across the image (-1 in profile facing the image's left, 0 along the view, 1 facing its right).
+   From models exported since 0041, a second front logit read from the head's colours alone: for people shorter
+   than :data:`HEAD_READ_BELOW_PX` the front logit is that one plus :data:`CLASSIFIER_WEIGHT_BELOW` times the
+   classifier's. At PETS09's sizes seen from above the classifier carries little of what it learns on renders to
+   real people, and the head's light face under darker hair carries more (:func:`front_logits`;
+   docs/decisions/0041-the-heads-colours-for-small-people.md).
 3. The person's pairs are ordered by that facing, and their handedness becomes ``-tanh(logit / 2)`` on every pair
    (> 0 seen from behind, its size the model's confidence), which the tracker weighs against the walk
    (:mod:`vc.deploy.tracking`).
@@ -35,8 +40,16 @@ from vc.keypoints import COCO_KEYPOINTS
 CROP_SIZE = (32, 64)
 #: The crop's height over the box's: a little ground and air around the person.
 CROP_MARGIN = 1.1
-#: The model's inputs and outputs (the second only in models exported since decision 0038).
+#: The model's inputs and outputs (the second only in models exported since decision 0038, the third since 0041).
 FRAME_INPUT, ROIS_INPUT, OUTPUT_NAME, ACROSS_OUTPUT = "frame", "rois", "front_logit", "face_across"
+HEAD_OUTPUT = "head_front_logit"
+#: People shorter than this (their box, pixels) are read front or behind mostly by their head's colours: PETS09's,
+#: 50-105 px tall, more often the reference's way on both halves; TUD-Stadtmitte's, 140 px and taller, are read
+#: better by the classifier alone (docs/decisions/0041-the-heads-colours-for-small-people.md).
+HEAD_READ_BELOW_PX = 100.0
+#: ... and the classifier's logit weighs in at this share of the head's: where the head says little (a hood, a
+#: face no lighter than the hair), the classifier still decides. Chosen on PETS09's choosing half (0041).
+CLASSIFIER_WEIGHT_BELOW = 0.05
 #: How far the nose and the eyes stand ahead of the ears' midpoint, in fractions of the person's height: the
 #: renderer's body model (anny's template, ``render/bodies.py``) has its nose 0.103 m and its eyes 0.081 m ahead of
 #: the ears on a 1.67 m body (tests/test_bodies.py checks these against it).
@@ -77,23 +90,38 @@ class FacingReading(NamedTuple):
     across: np.ndarray | None
 
 
+def front_logits(classifier: np.ndarray, head: np.ndarray | None, heights: np.ndarray) -> np.ndarray:
+    """Each person's front logit (N,) from the classifier's and, where the model reads it, the head's (step 2):
+    people shorter than :data:`HEAD_READ_BELOW_PX` take the head's plus :data:`CLASSIFIER_WEIGHT_BELOW` times the
+    classifier's, the others the classifier's."""
+    classifier = np.asarray(classifier, np.float32).reshape(-1)
+    if head is None:
+        return classifier
+    small = np.asarray(heights).reshape(-1) < HEAD_READ_BELOW_PX
+    return np.where(small, np.asarray(head, np.float32).reshape(-1) + CLASSIFIER_WEIGHT_BELOW * classifier,
+                    classifier).astype(np.float32)
+
+
 class FacingReader:
     """A bundle's facing model in onnxruntime: the front logit of each person and where their face points (steps
     1-2). One session per region runner: the regions run in threads of their own."""
 
     def __init__(self, model: bytes, threads: int = 1) -> None:
         self.session = onnxruntime_inference(model, threads)
-        self.reads_across = ACROSS_OUTPUT in {output.name for output in self.session.get_outputs()}
+        names = {output.name for output in self.session.get_outputs()}
+        self.reads_across, self.reads_head = ACROSS_OUTPUT in names, HEAD_OUTPUT in names
 
     def read(self, frame: np.ndarray, boxes: np.ndarray) -> FacingReading:
         """What the model reads of the people in ``boxes`` (N, 4) of an (H, W, 3) uint8 ``frame``."""
         if not len(boxes):
             return FacingReading(np.zeros(0, np.float32), np.zeros(0, np.float32) if self.reads_across else None)
+        boxes = np.asarray(boxes, np.float64).reshape(-1, 4)
         part, shifted = frame_part(frame, crop_rois(boxes))
-        outputs = [OUTPUT_NAME, ACROSS_OUTPUT] if self.reads_across else [OUTPUT_NAME]
-        found = self.session.run(outputs, {FRAME_INPUT: part, ROIS_INPUT: shifted})
-        return FacingReading(np.asarray(found[0]).reshape(-1),
-                             np.asarray(found[1]).reshape(-1) if self.reads_across else None)
+        outputs = [OUTPUT_NAME] + [name for name, read in ((ACROSS_OUTPUT, self.reads_across),
+                                                           (HEAD_OUTPUT, self.reads_head)) if read]
+        found = dict(zip(outputs, self.session.run(outputs, {FRAME_INPUT: part, ROIS_INPUT: shifted}), strict=True))
+        return FacingReading(front_logits(found[OUTPUT_NAME], found.get(HEAD_OUTPUT), boxes[:, 3] - boxes[:, 1]),
+                             np.asarray(found[ACROSS_OUTPUT]).reshape(-1) if self.reads_across else None)
 
 
 def ordered_by_facing(keypoints: np.ndarray, pair_handedness: np.ndarray, front_logit: float

@@ -48,7 +48,7 @@ from vc.deploy.bundle import (
 from vc.deploy.crop_pose import CROP_SIZE as CROP_POSE_SIZE
 from vc.deploy.crop_pose import MAP_STRIDE, MAPS_OUTPUT
 from vc.deploy.decoder_file import DECODER_FILE, decoder_file
-from vc.deploy.facing import ACROSS_OUTPUT, CROP_SIZE, FRAME_INPUT, ROIS_INPUT
+from vc.deploy.facing import ACROSS_OUTPUT, CROP_SIZE, FRAME_INPUT, HEAD_OUTPUT, ROIS_INPUT
 from vc.deploy.facing import OUTPUT_NAME as FACING_OUTPUT
 from vc.deploy.fitness import FitRange, SceneReference
 from vc.deploy.heatmaps import channel_names
@@ -59,7 +59,16 @@ from vc.keypoints import COCO_KEYPOINTS, COCO_SKELETON_1BASED
 from vc.model.camera_range import fit_range_of
 from vc.model.codec import expected_height_map
 from vc.model.crop_pose import CROP_POSE_MODEL, CROP_POSE_REPORT, CropPoseNet
-from vc.model.facing import CROPS, FACING_MODEL, FACING_OPSET, FACING_REPORT, FaceTurnNet, FacingNet, crop_graph
+from vc.model.facing import (
+    CROPS,
+    FACING_MODEL,
+    FACING_OPSET,
+    FACING_REPORT,
+    FaceTurnNet,
+    FacingNet,
+    HeadColours,
+    crop_graph,
+)
 from vc.model.network import ScenePoseNet
 from vc.model.operators import graph_operators, outside_conservative_set
 from vc.model.precision import choose_precision
@@ -107,23 +116,25 @@ def export_onnx(net: ScenePoseNet, crop_size: tuple[int, int], input_size: tuple
     return model.SerializeToString()
 
 
-class _FacingPair(nn.Module):
-    """The two facing networks side by side on the same crops, for one export."""
+class _FacingReaders(nn.Module):
+    """The facing networks side by side on the same crops, for one export: the classifier, then those of the face
+    turn and the head's colours that are given."""
 
-    def __init__(self, facing: FacingNet, turn: FaceTurnNet) -> None:
+    def __init__(self, facing: FacingNet, turn: FaceTurnNet | None, head: HeadColours | None) -> None:
         super().__init__()
-        self.facing, self.turn = facing, turn
+        self.readers = nn.ModuleList([reader for reader in (facing, turn, head) if reader is not None])
 
-    def forward(self, crops: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
-        return self.facing(crops), self.turn(crops)
+    def forward(self, crops: torch.Tensor) -> tuple[torch.Tensor, ...]:
+        return tuple(reader(crops) for reader in self.readers)
 
 
-def export_facing(net: FacingNet, turn: FaceTurnNet | None = None) -> bytes:
-    """The facing model as a bundle ships it (:mod:`vc.model.facing` step 4): :func:`crop_graph` feeding ``net``
-    (and ``turn`` where given), the frame (1, H, W, 3) uint8 and the crops' rectangles (N, 4) in, a front logit per
-    person (N,) out (and where each face points, (N,))."""
-    module: nn.Module = net if turn is None else _FacingPair(net, turn)
-    outputs = [FACING_OUTPUT] if turn is None else [FACING_OUTPUT, ACROSS_OUTPUT]
+def export_facing(net: FacingNet, turn: FaceTurnNet | None = None, head: HeadColours | None = None) -> bytes:
+    """The facing model as a bundle ships it (:mod:`vc.model.facing` step 5): :func:`crop_graph` feeding ``net``
+    (and ``turn`` and ``head`` where given), the frame (1, H, W, 3) uint8 and the crops' rectangles (N, 4) in, a
+    front logit per person (N,) out (and where each face points, (N,), and the head's front logit, (N,))."""
+    outputs = [FACING_OUTPUT] + [name for name, reader in ((ACROSS_OUTPUT, turn), (HEAD_OUTPUT, head))
+                                 if reader is not None]
+    module: nn.Module = net if len(outputs) == 1 else _FacingReaders(net, turn, head)
     return _reading_crops(module, CROP_SIZE, outputs)
 
 
@@ -325,11 +336,14 @@ def with_facing(manifest: dict, files: dict[str, bytes], run: Path) -> tuple[dic
     model = (run / FACING_MODEL).read_bytes()
     report = json.loads((run / FACING_REPORT).read_text()) if (run / FACING_REPORT).is_file() else {}
     turn = report.get("face_turn")  # runs trained before decision 0038 read the facing alone
+    head = report.get("head_colours")  # and before 0041, without the head's colours
     entry = {"model": FACING_MEMBER, "model_sha256": sha256(model), "crop_size": list(CROP_SIZE),
              "inputs": [FRAME_INPUT, ROIS_INPUT], "output": FACING_OUTPUT,
              "held_out_accuracy": report.get("held_out_accuracy"),
              **({"across_output": ACROSS_OUTPUT, "face_turn_held_out_error": turn.get("held_out_error")}
-                if isinstance(turn, dict) and "held_out_error" in turn else {})}
+                if isinstance(turn, dict) and "held_out_error" in turn else {}),
+             **({"head_output": HEAD_OUTPUT, "head_held_out_auc": head.get("held_out_auc")}
+                if isinstance(head, dict) and "held_out_auc" in head else {})}
     return {**manifest, FACING: entry}, {**files, FACING_MEMBER: model}
 
 

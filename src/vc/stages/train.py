@@ -33,6 +33,7 @@ from vc.model.facing import (
     dataset_crops,
     train_face_turn,
     train_facing,
+    train_head_colours,
 )
 from vc.model.trainer import RegionResult, TrainConfig, data_workers, select_device
 from vc.render.dataset import read_manifest
@@ -97,12 +98,12 @@ def train(dataset: Path, run: Path, settings: TrainSettings, region_names: list[
 
 def train_facing_model(dataset: Path, run: Path, seed: int, show_progress: bool = True) -> dict:
     """Train the facing model on ``dataset``'s renders into ``RUN/facing.onnx`` (:mod:`vc.model.facing`): the facing
-    classifier and, beside it, the face turn. Or keep the one an earlier invocation trained there on the same
-    renders with the same seed; what it measured (``RUN/facing.json``), or why there is none."""
+    classifier and, beside it, the face turn and the head's colours. Or keep the one an earlier invocation trained
+    there on the same renders with the same seed; what it measured (``RUN/facing.json``), or why there is none."""
     model, report = run / FACING_MODEL, run / FACING_REPORT
     manifest = read_manifest(dataset)
     trained_on = {"scene_hash": manifest["scene_hash"], "dataset_settings": manifest.get("settings"), "seed": seed,
-                  "reads": ["facing", "face turn"]}  # a facing model trained before the face turn is trained again
+                  "reads": ["facing", "face turn", "head colours"]}  # one that reads less is trained again
     if model.is_file() and report.is_file():
         earlier = json.loads(report.read_text())
         if earlier.get("trained_on") == trained_on:
@@ -112,15 +113,16 @@ def train_facing_model(dataset: Path, run: Path, seed: int, show_progress: bool 
         return {"skipped": f"{len(train.facing)} rendered people face the camera or away from it; the facing model "
                            f"needs {MIN_FACING_CROPS} or more (render more samples)"}
     result = train_facing(train.facing, held_out.facing, seed, show_progress=show_progress)
+    head = train_head_colours(train.facing, held_out.facing, seed)
     turn = None
     if len(train.turn) >= MIN_FACING_CROPS:
         turn = train_face_turn(train.turn, held_out.turn, seed, show_progress=show_progress)
     with atomic_path(model) as temporary:
-        temporary.write_bytes(export_facing(result.net, None if turn is None else turn.net))
+        temporary.write_bytes(export_facing(result.net, None if turn is None else turn.net, head.net))
     turned = turn.to_dict() if turn is not None else {
         "skipped": f"{len(train.turn)} rendered people have their nose and ears labelled; the face turn needs "
                    f"{MIN_FACING_CROPS} or more"}
-    measured = {**result.to_dict(), "face_turn": turned, "trained_on": trained_on}
+    measured = {**result.to_dict(), "face_turn": turned, "head_colours": head.to_dict(), "trained_on": trained_on}
     write_json(report, measured)
     return measured
 
