@@ -131,12 +131,17 @@ class HeadColours(nn.Module):
         cells = ((HEAD_ROWS[1] - HEAD_ROWS[0]) // HEAD_CELL) * ((HEAD_COLUMNS[1] - HEAD_COLUMNS[0]) // HEAD_CELL)
         self.logit = nn.Linear(3 * cells, 1)
 
-    def forward(self, crops: Tensor) -> Tensor:
+    @staticmethod
+    def cells(crops: Tensor) -> Tensor:
+        """The head's window of ``crops`` (N, 3, 64, 32) as (N, 144) cells, each crop's standardised."""
         window = crops[:, :, HEAD_ROWS[0]:HEAD_ROWS[1], HEAD_COLUMNS[0]:HEAD_COLUMNS[1]]
         cells = nn.functional.avg_pool2d(window, HEAD_CELL).flatten(1)
         centred = cells - cells.mean(dim=1, keepdim=True)
         spread = centred.square().mean(dim=1, keepdim=True).sqrt()
-        return self.logit(centred / (spread + HEAD_SPREAD_FLOOR)).squeeze(1)
+        return centred / (spread + HEAD_SPREAD_FLOOR)
+
+    def forward(self, crops: Tensor) -> Tensor:
+        return self.logit(self.cells(crops)).squeeze(1)
 
 
 def _stage(inputs: int, outputs: int) -> nn.Sequential:
@@ -462,7 +467,9 @@ def train_head_colours(train: FacingCrops, held_out: FacingCrops, seed: int) -> 
             look = moved(camera_look(crop, rng), int(rng.integers(-HEAD_SHIFT_ROWS, HEAD_SHIFT_ROWS + 1)),
                          int(rng.integers(-1, 2)))
             looks.append(look[:, ::-1] if rng.random() < 0.5 else look)  # a mirror keeps the front a front
-    crops = _batch(np.stack(looks))
+    with torch.no_grad():  # the cells once, not at every L-BFGS evaluation; the crops in batches, not all as floats
+        cells = torch.cat([HeadColours.cells(_batch(np.stack(looks[start:start + 1024])))
+                           for start in range(0, len(looks), 1024)])
     targets = torch.from_numpy(np.tile(train.front[chosen], HEAD_LOOKS).astype(np.float32))
     torch.manual_seed(seed)
     net = HeadColours()
@@ -470,7 +477,7 @@ def train_head_colours(train: FacingCrops, held_out: FacingCrops, seed: int) -> 
 
     def loss() -> Tensor:
         optimiser.zero_grad()
-        value = (nn.functional.binary_cross_entropy_with_logits(net(crops), targets)
+        value = (nn.functional.binary_cross_entropy_with_logits(net.logit(cells).squeeze(1), targets)
                  + HEAD_L2 * net.logit.weight.square().sum())
         value.backward()
         return value
