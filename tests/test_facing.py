@@ -20,11 +20,13 @@ from vc.deploy.facing import (
     FRAME_INPUT,
     HEAD_OUTPUT,
     HEAD_READ_BELOW_PX,
+    MIRRORED_FROM_PX,
     ROIS_INPUT,
     FacingReader,
     crop_rois,
     face_ahead,
     front_logits,
+    mirrored,
     ordered_by_facing,
 )
 from vc.deploy.heatmaps import PAIRS
@@ -137,6 +139,7 @@ def test_a_rendered_person_is_labelled_front_behind_or_profile(image_left, offse
 
 def test_the_classifier_learns_which_way_people_face_and_the_same_seed_gives_the_same_weights(trained):
     assert trained.held_out_accuracy >= 0.95
+    torch.set_num_threads(1)  # as the fixture trained: other tests' training sets the machine's
     again = train_facing(_crops(1024, 0), _crops(128, 1), seed=3, epochs=4, show_progress=False)
     for mine, theirs in zip(trained.net.state_dict().values(), again.net.state_dict().values(), strict=True):
         assert torch.equal(mine, theirs)
@@ -144,6 +147,7 @@ def test_the_classifier_learns_which_way_people_face_and_the_same_seed_gives_the
 
 def test_the_head_reader_learns_from_the_heads_colours_and_the_same_seed_gives_the_same_weights(headed):
     assert headed.held_out_accuracy >= 0.95 and headed.held_out_auc >= 0.98
+    torch.set_num_threads(1)  # as the fixture trained: other tests' training sets the machine's
     again = train_head_colours(_crops(1024, 0), _crops(128, 1), seed=3)
     assert torch.equal(headed.net.logit.weight, again.net.logit.weight)
 
@@ -191,7 +195,30 @@ def test_the_exported_model_with_the_head_reads_small_people_by_it(trained, head
     tall = boxes.copy()
     tall[:, 3] = tall[:, 1] + HEAD_READ_BELOW_PX  # the same crops' rectangles' centres, people the gate's height
     tall_classifier = session.run(None, {FRAME_INPUT: frame[None], ROIS_INPUT: crop_rois(tall)})[0]
-    np.testing.assert_allclose(FacingReader(model).read(frame, tall).front_logits, tall_classifier, rtol=1e-5)
+    mirror_classifier = session.run(None, dict(zip((FRAME_INPUT, ROIS_INPUT), mirrored(frame[None], crop_rois(tall)),
+                                                   strict=True)))[0]
+    np.testing.assert_allclose(FacingReader(model).read(frame, tall).front_logits,
+                               (tall_classifier + mirror_classifier) / 2.0, rtol=1e-5)  # read twice (step 2)
+
+
+def _mirror_image(frame: np.ndarray, boxes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    width = frame.shape[1]
+    return (np.ascontiguousarray(frame[:, ::-1]),
+            np.stack([width - 1 - boxes[:, 2], boxes[:, 1], width - 1 - boxes[:, 0], boxes[:, 3]], axis=1))
+
+
+def test_a_tall_person_and_their_mirror_image_face_the_same_way_and_turn_their_faces_apart(trained, turned, headed):
+    crops = _turn_crops(4, 5)
+    frame, boxes = pasted(crops.crops, (100, 200), 10, 45)
+    boxes[:, 3] = boxes[:, 1] + MIRRORED_FROM_PX  # the same crops' rectangles' centres, people the gate's height
+    reader = FacingReader(export_facing(trained.net, turned.net, headed.net))
+    read, seen = reader.read(frame, boxes), reader.read(*_mirror_image(frame, boxes))
+    np.testing.assert_allclose(seen.front_logits, read.front_logits, atol=1e-4)
+    np.testing.assert_allclose(seen.across, -read.across, atol=1e-4)
+    small = boxes.copy()
+    small[:, 3] = small[:, 1] + MIRRORED_FROM_PX - 1  # read once: the mirror is another reading
+    read, seen = reader.read(frame, small), reader.read(*_mirror_image(frame, small))
+    assert np.abs(seen.across + read.across).max() > 1e-3
 
 
 def test_the_exported_model_reads_the_frame_as_the_network_reads_its_crops(trained):
@@ -301,7 +328,8 @@ def test_an_exported_bundle_ships_the_runs_facing_model(trained_run, trained, he
 def test_boxes_of_no_size_or_beyond_the_frame_read_a_finite_facing(trained, headed):
     frame = np.zeros((100, 120, 3), np.uint8)
     boxes = np.array([[10.0, 10.0, 10.0, 10.0], [10.0, 10.0, 20.0, 10.0], [-50.0, -50.0, -10.0, -10.0],
-                      [110.0, 90.0, 130.0, 140.0], [0.0, 0.0, 119.0, 99.0]])
+                      [110.0, 90.0, 130.0, 140.0], [0.0, 0.0, 119.0, 99.0],
+                      [-200.0, -300.0, -100.0, -100.0], [100.0, -50.0, 300.0, 400.0]])  # tall: read twice
     for model in (export_facing(trained.net), export_facing(trained.net, head=headed.net)):
         assert np.isfinite(FacingReader(model).read(frame, boxes).front_logits).all()  # a flat head reads its bias
 
@@ -360,6 +388,7 @@ def test_a_rendered_persons_face_points_where_their_nose_stands_from_their_ears(
 def test_the_face_turn_learns_where_faces_point_and_the_same_seed_gives_the_same_weights(turned):
     assert turned.held_out_profile_sign >= 0.95
     assert turned.held_out_error < 0.6  # reading every face along the view would be 0.67 off
+    torch.set_num_threads(1)  # as the fixture trained: other tests' training sets the machine's
     again = train_face_turn(_turn_crops(1024, 0), _turn_crops(128, 1), seed=3, epochs=4, show_progress=False)
     for mine, theirs in zip(turned.net.state_dict().values(), again.net.state_dict().values(), strict=True):
         assert torch.equal(mine, theirs)

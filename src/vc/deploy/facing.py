@@ -18,7 +18,10 @@ the image: where the networks cannot tell, they put the nose between the ears, w
    than :data:`HEAD_READ_BELOW_PX` the front logit is that one plus :data:`CLASSIFIER_WEIGHT_BELOW` times the
    classifier's. At PETS09's sizes seen from above the classifier carries little of what it learns on renders to
    real people, and the head's light face under darker hair carries more (:func:`front_logits`;
-   docs/decisions/0041-the-heads-colours-for-small-people.md).
+   docs/decisions/0041-the-heads-colours-for-small-people.md). People :data:`MIRRORED_FROM_PX` and taller are read
+   twice, their crop as it is and mirrored (:func:`mirrored`), and each output is the mean of the two readings, the
+   mirror's face turned back: a mirror keeps a front a front, so where the model is unsure of a person its two
+   readings err apart (docs/decisions/0042-tall-people-read-twice.md).
 3. The person's pairs are ordered by that facing, and their handedness becomes ``-tanh(logit / 2)`` on every pair
    (> 0 seen from behind, its size the model's confidence), which the tracker weighs against the walk
    (:mod:`vc.deploy.tracking`).
@@ -50,6 +53,10 @@ HEAD_READ_BELOW_PX = 100.0
 #: ... and the classifier's logit weighs in at this share of the head's: where the head says little (a hood, a
 #: face no lighter than the hair), the classifier still decides. Chosen on PETS09's choosing half (0041).
 CLASSIFIER_WEIGHT_BELOW = 0.05
+#: People this tall or taller (their box, pixels) are read twice, their crop and its mirror image, and the two
+#: readings averaged: TUD-Stadtmitte's people, 140 px and taller, are read the reference's way more often; PETS09's
+#: small ones, read by their heads, are not (docs/decisions/0042-tall-people-read-twice.md).
+MIRRORED_FROM_PX = 100.0
 #: How far the nose and the eyes stand ahead of the ears' midpoint, in fractions of the person's height: the
 #: renderer's body model (anny's template, ``render/bodies.py``) has its nose 0.103 m and its eyes 0.081 m ahead of
 #: the ears on a 1.67 m body (tests/test_bodies.py checks these against it).
@@ -69,6 +76,16 @@ def crop_rois(boxes: np.ndarray) -> np.ndarray:
     centre_x, centre_y = (boxes[:, 0] + boxes[:, 2]) / 2.0 + 0.5, (boxes[:, 1] + boxes[:, 3]) / 2.0 + 0.5
     return np.stack([centre_x - width / 2, centre_y - height / 2, centre_x + width / 2, centre_y + height / 2],
                     axis=1).astype(np.float32)
+
+
+def mirrored(part: np.ndarray, rois: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A model's frame input (1, h, w, 3) mirrored left to right, and the rectangles (N, 4) that cut from it the
+    mirror images of the crops ``rois`` (N, 4, pixel edges) cut from ``part``: RoiAlign's samples are symmetric
+    about each bin's centre, so the crops are the first's mirrored, to float rounding."""
+    width = part.shape[2]
+    rois = np.asarray(rois, np.float32).reshape(-1, 4)
+    return (np.ascontiguousarray(part[:, :, ::-1]),
+            np.stack([width - rois[:, 2], rois[:, 1], width - rois[:, 0], rois[:, 3]], axis=1).astype(np.float32))
 
 
 def frame_part(frame: np.ndarray, rois: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -110,18 +127,32 @@ class FacingReader:
         self.session = onnxruntime_inference(model, threads)
         names = {output.name for output in self.session.get_outputs()}
         self.reads_across, self.reads_head = ACROSS_OUTPUT in names, HEAD_OUTPUT in names
+        self.outputs = [OUTPUT_NAME] + [name for name, read in ((ACROSS_OUTPUT, self.reads_across),
+                                                                (HEAD_OUTPUT, self.reads_head)) if read]
 
     def read(self, frame: np.ndarray, boxes: np.ndarray) -> FacingReading:
         """What the model reads of the people in ``boxes`` (N, 4) of an (H, W, 3) uint8 ``frame``."""
         if not len(boxes):
             return FacingReading(np.zeros(0, np.float32), np.zeros(0, np.float32) if self.reads_across else None)
         boxes = np.asarray(boxes, np.float64).reshape(-1, 4)
-        part, shifted = frame_part(frame, crop_rois(boxes))
-        outputs = [OUTPUT_NAME] + [name for name, read in ((ACROSS_OUTPUT, self.reads_across),
-                                                           (HEAD_OUTPUT, self.reads_head)) if read]
-        found = dict(zip(outputs, self.session.run(outputs, {FRAME_INPUT: part, ROIS_INPUT: shifted}), strict=True))
-        return FacingReading(front_logits(found[OUTPUT_NAME], found.get(HEAD_OUTPUT), boxes[:, 3] - boxes[:, 1]),
-                             np.asarray(found[ACROSS_OUTPUT]).reshape(-1) if self.reads_across else None)
+        heights = boxes[:, 3] - boxes[:, 1]
+        rois = crop_rois(boxes)
+        found = self._outputs(*frame_part(frame, rois))
+        tall = heights >= MIRRORED_FROM_PX
+        if tall.any():
+            seen = self._outputs(*mirrored(*frame_part(frame, rois[tall])))
+            if self.reads_across:
+                seen[ACROSS_OUTPUT] = -seen[ACROSS_OUTPUT]  # a mirror turns the face the other way
+            for name in self.outputs:
+                found[name][tall] = (found[name][tall] + seen[name]) / 2.0
+        return FacingReading(front_logits(found[OUTPUT_NAME], found.get(HEAD_OUTPUT), heights),
+                             found[ACROSS_OUTPUT] if self.reads_across else None)
+
+    def _outputs(self, part: np.ndarray, rois: np.ndarray) -> dict[str, np.ndarray]:
+        """Each of the model's outputs (N,) float32 for the crops ``rois`` of the frame input ``part``."""
+        readings = self.session.run(self.outputs, {FRAME_INPUT: part, ROIS_INPUT: rois})
+        return {name: np.asarray(value, np.float32).reshape(-1) for name, value in
+                zip(self.outputs, readings, strict=True)}
 
 
 def ordered_by_facing(keypoints: np.ndarray, pair_handedness: np.ndarray, front_logit: float
