@@ -7,6 +7,8 @@ import json
 import shutil
 
 import numpy as np
+import onnx
+import onnxruntime as ort
 import pytest
 import torch
 from crop_factory import pasted
@@ -20,10 +22,12 @@ from vc.deploy.crop_pose import (
     PEAK_FLOOR,
     CropPoseReader,
     keypoints_of_maps,
+    mirrored_back,
     with_crop_keypoints,
 )
 from vc.deploy.facing import CROP_MARGIN, FRAME_INPUT, ROIS_INPUT, crop_rois, frame_part
-from vc.deploy.heatmaps import PAIRS
+from vc.deploy.facing import mirrored as mirrored_input
+from vc.deploy.heatmaps import PAIRS, swap_pairs
 from vc.deploy.runtime import Person, Runtime
 from vc.errors import InputError
 from vc.model.crop_pose import (
@@ -37,6 +41,7 @@ from vc.model.crop_pose import (
     mirrored,
     train_crop_pose,
 )
+from vc.model.crop_precision import keypoints_at_int8, read_crops, to_int8
 from vc.model.export import export_crop_pose
 from vc.stages.train import train_crop_pose_model
 
@@ -110,9 +115,33 @@ def test_the_exported_model_reads_the_frame_as_the_network_reads_its_crops(train
         expected = trained.net(torch.from_numpy(crops.crops).permute(0, 3, 1, 2).float() / 255.0).numpy()
     assert maps.shape == expected.shape == (3, 17, CROP_SIZE[1] // MAP_STRIDE, CROP_SIZE[0] // MAP_STRIDE)
     assert np.corrcoef(maps.ravel(), expected.ravel())[0, 1] > 0.95  # 2 x 2 samples a pixel blur a little
-    read = reader.read(frame, boxes)
-    np.testing.assert_allclose(read, keypoints_of_maps(maps, crop_rois(boxes)), atol=1e-4)
+    seen = reader.session.run([MAPS_OUTPUT], dict(zip((FRAME_INPUT, ROIS_INPUT), mirrored_input(part, shifted),
+                                                      strict=True)))[0]
+    read = reader.read(frame, boxes)  # the crop's maps and its mirror's, averaged
+    np.testing.assert_allclose(read, keypoints_of_maps((maps + mirrored_back(seen)) / 2.0, crop_rois(boxes)),
+                               atol=1e-4)
     assert reader.read(frame, np.zeros((0, 4))).shape == (0, 17, 3)
+
+
+def test_a_person_and_their_mirror_image_are_read_as_each_others_mirror(trained):
+    crops = _crops(3, 7)
+    frame, boxes = pasted(crops.crops, (110, 200), 4, 60)
+    reader = CropPoseReader(export_crop_pose(trained.net))
+    read = reader.read(frame, boxes)
+    width = frame.shape[1]
+    mirror_boxes = np.stack([width - 1 - boxes[:, 2], boxes[:, 1], width - 1 - boxes[:, 0], boxes[:, 3]], axis=1)
+    seen = reader.read(np.ascontiguousarray(frame[:, ::-1]), mirror_boxes)
+    seen[..., 0] = width - 1 - seen[..., 0]  # back to the frame's pixels: pairs now the other way round
+    np.testing.assert_allclose(swap_pairs(seen, np.ones((len(seen), len(PAIRS)), bool)), read, atol=1e-3)
+
+
+def test_the_keypoint_model_at_int8_reads_the_crops_as_fp32_does(trained):
+    model = export_crop_pose(trained.net)
+    chosen = keypoints_at_int8(model, _crops(128, 0), _crops(32, 1), seed=0)
+    crops = _crops(8, 2).crops
+    fp32, int8 = (read_crops(graph, crops, MAPS_OUTPUT) for graph in (model, to_int8(model, crops)))
+    assert np.corrcoef(fp32.ravel(), int8.ravel())[0, 1] > 0.95
+    assert chosen.precision in ("int8", "fp32") and set(chosen.measured) == {"fp32", "int8"}
 
 
 def test_the_keypoints_take_the_order_the_persons_facing_gave_and_keep_their_confidences():
@@ -240,6 +269,12 @@ def test_a_run_keeps_its_keypoint_model_only_for_the_renders_and_seed_it_was_tra
     monkeypatch.setattr(stage, "train_crop_pose", fake_train)
     run = tmp_path / "run"
     first = stage.train_crop_pose_model(data, run, seed=0, show_progress=False)
+    assert first["precision"] in ("int8", "fp32")  # measured both ways on the held-out crops the run has
+    assert set(first["held_out_pckh_by_precision"]) <= {"fp32", "int8"}
+    shipped = ort.InferenceSession((run / CROP_POSE_MODEL).read_bytes(), providers=["CPUExecutionProvider"])
+    assert any(node.op_type == "QuantizeLinear" for node in onnx.load_from_string(
+        (run / CROP_POSE_MODEL).read_bytes()).graph.node) == (first["precision"] == "int8")
+    assert shipped.get_outputs()[0].name == MAPS_OUTPUT
     assert stage.train_crop_pose_model(data, run, seed=0, show_progress=False) == first  # resumed: kept
     stage.train_crop_pose_model(data, run, seed=1, show_progress=False)  # another seed: trained again
     assert trained_calls == [0, 1]
@@ -253,9 +288,10 @@ def test_an_exported_bundle_ships_the_runs_keypoint_model(trained_run, trained, 
     shutil.copytree(trained_run, run)
     shutil.copytree(trained_run.parent / "dataset", tmp_path / "dataset")  # the run names its dataset beside it
     (run / CROP_POSE_MODEL).write_bytes(export_crop_pose(trained.net))
-    (run / CROP_POSE_REPORT).write_text(json.dumps(trained.to_dict()))
+    (run / CROP_POSE_REPORT).write_text(json.dumps({**trained.to_dict(), "precision": "int8"}))
     assert vc_export([str(run), "-o", str(tmp_path / "bundle"), "--quiet"]) == 0
     manifest = json.loads((tmp_path / "bundle" / MANIFEST).read_text())
+    assert manifest[CROP_POSE]["precision"] == "int8"  # as the run's training chose
     assert manifest[CROP_POSE]["held_out_pckh"] == trained.to_dict()["held_out_pckh"]
     assert manifest[CROP_POSE]["crop_size"] == list(CROP_SIZE)
     assert load_bundle(tmp_path / "bundle").crop_pose == (run / CROP_POSE_MODEL).read_bytes()

@@ -124,7 +124,8 @@ def _crop_pose_line(crop_pose: dict) -> str:
     pckh = crop_pose["held_out_pckh"]
     measured = (f"PCKh {pckh:.3f} on {crop_pose['held_out_crops']} held-out people" if pckh is not None
                 else "no held-out people to measure it on")
-    return f"{measured} ({crop_pose['train_crops']} trained on)"
+    shipped = f"; ships at {crop_pose['precision']}" if "precision" in crop_pose else ""
+    return f"{measured} ({crop_pose['train_crops']} trained on){shipped}"
 
 
 @handles_input_errors

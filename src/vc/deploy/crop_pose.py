@@ -14,6 +14,9 @@ docs/decisions/0039-keypoints-from-the-crop.md, docs/decisions/0040-keypoint-mod
    own graph (ONNX RoiAlign, as the facing model does).
 2. Its output is one heat map per keypoint at :data:`MAP_STRIDE`, each left/right pair in image order (which member is
    the left one is the facing's question, not this model's).
+   The crop is read twice, as it is and mirrored (:func:`vc.deploy.facing.mirrored`); the mirror's maps, mirrored
+   back and each pair's two maps exchanged (a mirror exchanges their image order), are averaged with the crop's: the
+   two readings err apart where the model is unsure (docs/decisions/0043-the-keypoint-model-at-int8-reads-twice.md).
 3. Each map's maximum is the keypoint, moved a quarter cell toward the larger of its neighbours on each axis, and
    mapped back to frame pixels (:func:`keypoints_of_maps`).
 4. The person's pairs take the order their facing already gave them (``pair_handedness``: > 0, the image-left member
@@ -26,7 +29,7 @@ from __future__ import annotations
 import numpy as np
 
 from vc.deploy.engines import onnxruntime_inference
-from vc.deploy.facing import FRAME_INPUT, ROIS_INPUT, crop_rois, frame_part
+from vc.deploy.facing import FRAME_INPUT, ROIS_INPUT, crop_rois, frame_part, mirrored
 from vc.deploy.heatmaps import PAIRS, swap_pairs
 
 #: The crop the keypoint model reads, width x height (pixels): twice the facing model's, as tall as a near person of
@@ -46,6 +49,7 @@ PEAK_FLOOR = 0.3
 #: reference by 0.000, at a crop each; TUD-Stadtmitte has nobody under it. The highest gate that keeps every gain on
 #: both cameras' choosing halves (docs/decisions/0040-keypoint-model-by-size.md).
 MIN_READ_HEIGHT_PX = 100.0
+_MIRRORED_CHANNELS = swap_pairs(np.arange(17)[:, None], np.ones(len(PAIRS), bool))[:, 0]
 
 
 def keypoints_of_maps(maps: np.ndarray, rois: np.ndarray) -> np.ndarray:
@@ -66,6 +70,12 @@ def keypoints_of_maps(maps: np.ndarray, rois: np.ndarray) -> np.ndarray:
     bin_y = (rois[:, 3] - rois[:, 1]) / CROP_SIZE[1]
     return np.stack([rois[:, 0, None] + crop_x * bin_x[:, None] - 0.5,
                      rois[:, 1, None] + crop_y * bin_y[:, None] - 0.5, peak], axis=-1)
+
+
+def mirrored_back(maps: np.ndarray) -> np.ndarray:
+    """Heat maps (N, 17, h, w) read from mirrored crops, as the crops themselves would show them: mirrored back, and
+    each pair's two maps exchanged (the mirror's image-left member is the crop's image-right one)."""
+    return maps[:, _MIRRORED_CHANNELS, :, ::-1]
 
 
 def worth_reading(boxes: np.ndarray) -> np.ndarray:
@@ -106,5 +116,8 @@ class CropPoseReader:
             return np.zeros((0, 17, 3), np.float64)
         rois = crop_rois(boxes)
         part, shifted = frame_part(frame, rois)
-        maps = self.session.run([MAPS_OUTPUT], {FRAME_INPUT: part, ROIS_INPUT: shifted})[0]
-        return keypoints_of_maps(np.asarray(maps), rois)
+        return keypoints_of_maps((self._maps(part, shifted) + mirrored_back(self._maps(*mirrored(part, shifted))))
+                                 / 2.0, rois)
+
+    def _maps(self, part: np.ndarray, rois: np.ndarray) -> np.ndarray:
+        return np.asarray(self.session.run([MAPS_OUTPUT], {FRAME_INPUT: part, ROIS_INPUT: rois})[0], np.float32)

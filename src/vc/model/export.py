@@ -160,6 +160,9 @@ def _reading_crops(module: nn.Module, size: tuple[int, int], outputs: list[str])
     crops = crop_graph(size)
     crops.ir_version = network.ir_version  # merged graphs share one IR version: the exporter's
     model = onnx.compose.merge_models(crops, network, io_map=[(CROPS, CROPS)])
+    versions = {entry.domain: entry.version for entry in model.opset_import}  # both name the default domain
+    del model.opset_import[:]
+    model.opset_import.extend(onnx.helper.make_opsetid(domain, version) for domain, version in versions.items())
     onnx.checker.check_model(model)
     return model.SerializeToString()
 
@@ -331,8 +334,8 @@ def bundle_files(run: Path, precision: str = "fp32", eval_samples: int = 200, ca
 
 
 def with_facing(manifest: dict, files: dict[str, bytes], run: Path) -> tuple[dict, dict[str, bytes]]:
-    """The bundle with the run's facing model (:mod:`vc.model.facing`), fp32: about 110 kB that run once per person,
-    where int8 would save little and cost its calibration."""
+    """The bundle with the run's facing model (:mod:`vc.model.facing`), fp32: at int8 it reads PETS09's people no
+    faster and some of them worse (docs/decisions/0043-the-keypoint-model-at-int8-reads-twice.md)."""
     model = (run / FACING_MODEL).read_bytes()
     report = json.loads((run / FACING_REPORT).read_text()) if (run / FACING_REPORT).is_file() else {}
     turn = report.get("face_turn")  # runs trained before decision 0038 read the facing alone
@@ -348,12 +351,14 @@ def with_facing(manifest: dict, files: dict[str, bytes], run: Path) -> tuple[dic
 
 
 def with_crop_pose(manifest: dict, files: dict[str, bytes], run: Path) -> tuple[dict, dict[str, bytes]]:
-    """The bundle with the run's keypoint model (:mod:`vc.model.crop_pose`), fp32 like the facing model."""
+    """The bundle with the run's keypoint model (:mod:`vc.model.crop_pose`), at the precision its training chose
+    (:mod:`vc.model.crop_precision`)."""
     model = (run / CROP_POSE_MODEL).read_bytes()
     report = json.loads((run / CROP_POSE_REPORT).read_text()) if (run / CROP_POSE_REPORT).is_file() else {}
     entry = {"model": CROP_POSE_MEMBER, "model_sha256": sha256(model), "crop_size": list(CROP_POSE_SIZE),
              "map_stride": MAP_STRIDE, "inputs": [FRAME_INPUT, ROIS_INPUT], "output": MAPS_OUTPUT,
-             "pairs": "image order", "held_out_pckh": report.get("held_out_pckh")}
+             "pairs": "image order", "held_out_pckh": report.get("held_out_pckh"),
+             "precision": report.get("precision", "fp32")}
     return {**manifest, CROP_POSE: entry}, {**files, CROP_POSE_MEMBER: model}
 
 

@@ -25,6 +25,7 @@ from vc.model.crop_pose import (
     train_crop_pose,
 )
 from vc.model.crop_pose import dataset_crops as crop_pose_crops
+from vc.model.crop_precision import keypoints_at_int8
 from vc.model.export import export_crop_pose, export_facing
 from vc.model.facing import (
     FACING_MODEL,
@@ -129,7 +130,8 @@ def train_facing_model(dataset: Path, run: Path, seed: int, show_progress: bool 
 
 def train_crop_pose_model(dataset: Path, run: Path, seed: int, wanted: bool | Literal["auto"] = True,
                           show_progress: bool = True) -> dict:
-    """Train the keypoint model on ``dataset``'s renders into ``RUN/crop_pose.onnx`` (:mod:`vc.model.crop_pose`), or
+    """Train the keypoint model on ``dataset``'s renders into ``RUN/crop_pose.onnx`` (:mod:`vc.model.crop_pose`; at
+    int8 where it holds, :mod:`vc.model.crop_precision`), or
     keep the one an earlier invocation trained there on the same renders with the same seed; what it measured
     (``RUN/crop_pose.json``), or why there is none. ``wanted``: "auto" trains it where most of the scene's people
     are tall enough to be read (:func:`crop_pose_not_called_for`). A run without one keeps none from before, which
@@ -138,7 +140,8 @@ def train_crop_pose_model(dataset: Path, run: Path, seed: int, wanted: bool | Li
     reason = ("not asked for (train.crop_pose: false)" if wanted is False
               else crop_pose_not_called_for(dataset) if wanted == "auto" else None)
     manifest = read_manifest(dataset)
-    trained_on = {"scene_hash": manifest["scene_hash"], "dataset_settings": manifest.get("settings"), "seed": seed}
+    trained_on = {"scene_hash": manifest["scene_hash"], "dataset_settings": manifest.get("settings"), "seed": seed,
+                  "precision": "int8 where it holds"}  # one exported fp32 alone is trained again
     if reason is None and model.is_file() and report.is_file():
         earlier = json.loads(report.read_text())
         if earlier.get("trained_on") == trained_on:
@@ -153,9 +156,13 @@ def train_crop_pose_model(dataset: Path, run: Path, seed: int, wanted: bool | Li
         report.unlink(missing_ok=True)
         return {"skipped": reason}
     result = train_crop_pose(train, held_out, seed, show_progress=show_progress)
+    chosen = keypoints_at_int8(export_crop_pose(result.net), train, held_out, seed)
     with atomic_path(model) as temporary:
-        temporary.write_bytes(export_crop_pose(result.net))
-    measured = {**result.to_dict(), "trained_on": trained_on}
+        temporary.write_bytes(chosen.model)
+    measured = {**result.to_dict(), "precision": chosen.precision,
+                "held_out_pckh_by_precision": {precision: None if value is None else round(value, 4)
+                                               for precision, value in chosen.measured.items()},
+                "trained_on": trained_on}
     write_json(report, measured)
     return measured
 
