@@ -6,8 +6,9 @@ the order rotated from frame to frame (as benchmarks/runtime_interleaved.py time
     PYTHONPATH=src python experiments/2026-12-01-mirrored-crops/latency.py BUNDLE CAMERA \
         >> experiments/2026-12-01-mirrored-crops/results/latency.jsonl
 
-Run at the commit that made the facing model read tall people twice (decision 0042): its runtime reads the facing
-model's crops as it ships; the keypoint model reading twice is this experiment's (arms.py).
+Run at cc5023a, the commit that made the facing model read tall people twice (decision 0042): its runtime reads the
+facing model's crops as it ships, the keypoint model's once; the keypoint model reading twice is this experiment's
+(arms.py). From 8bcd139 on, the runtime's keypoint model reads each crop twice itself (decision 0043).
 """
 
 from __future__ import annotations
