@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from onnxruntime.quantization import CalibrationDataReader, QuantFormat, QuantType, quantize_static
+from onnxruntime.quantization import CalibrationDataReader, quantize_static
 from onnxruntime.quantization.shape_inference import quant_pre_process
 
 from vc.cores import usable_cores
@@ -29,15 +29,16 @@ from vc.deploy.crop_pose import MAPS_OUTPUT, keypoints_of_maps
 from vc.deploy.engines import onnxruntime_inference
 from vc.deploy.facing import FRAME_INPUT, ROIS_INPUT
 from vc.model.crop_pose import PoseCrops, pckh
-from vc.model.precision import AUTO_TOLERANCE
+from vc.model.precision import AUTO_TOLERANCE, INT8_SCHEME
 
 #: The networks' operators that run at int8 (step 1): as the region networks', the ReLUs among them so that each is
 #: folded into the convolution before it.
 QUANTIZED_OPS = ("Conv", "Relu", "Concat")
 #: Training crops the activation ranges are calibrated on (step 2): as many as the region networks' renders.
 CALIBRATION_CROPS = 64
-#: Crops pasted into one frame, for calibration and for reading many crops at once.
-CROPS_A_FRAME = 64
+#: Crops pasted into one frame, to read many crops at once, and to calibrate on (the ranges come out a little
+#: different with other groupings).
+CROPS_A_FRAME, CALIBRATION_CROPS_A_FRAME = 64, 8
 #: int8 is kept where its PCKh@0.5 on the held-out crops is at most this much below fp32's (step 3), as a region's.
 KEYPOINT_TOLERANCE = AUTO_TOLERANCE["pckh"]
 
@@ -52,19 +53,21 @@ def side_by_side(crops: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
                            axis=1)
 
 
+def _graph_inputs(crops: np.ndarray, per_frame: int) -> Iterator[dict[str, np.ndarray]]:
+    """A crop graph's inputs for ``crops``, ``per_frame`` pasted into each frame."""
+    for start in range(0, len(crops), per_frame):
+        yield dict(zip((FRAME_INPUT, ROIS_INPUT), side_by_side(crops[start:start + per_frame]), strict=True))
+
+
 def read_crops(model: bytes, crops: np.ndarray, output: str) -> np.ndarray:
     """A crop graph's ``output`` for each of ``crops`` (N, h, w, 3) at the graph's crop size: (N, ...)."""
     session = onnxruntime_inference(model, usable_cores())
-    readings = [session.run([output], dict(zip((FRAME_INPUT, ROIS_INPUT),
-                                               side_by_side(crops[start:start + CROPS_A_FRAME]), strict=True)))[0]
-                for start in range(0, len(crops), CROPS_A_FRAME)]
-    return np.concatenate(readings)
+    return np.concatenate([session.run([output], inputs)[0] for inputs in _graph_inputs(crops, CROPS_A_FRAME)])
 
 
 class _Calibration(CalibrationDataReader):
     def __init__(self, crops: np.ndarray) -> None:
-        self._frames: Iterator[dict] = (dict(zip((FRAME_INPUT, ROIS_INPUT), side_by_side(crops[start:start + 8]),
-                                                 strict=True)) for start in range(0, len(crops), 8))
+        self._frames = _graph_inputs(crops, CALIBRATION_CROPS_A_FRAME)
 
     def get_next(self) -> dict | None:
         return next(self._frames, None)
@@ -82,8 +85,7 @@ def to_int8(model: bytes, calibration: np.ndarray) -> bytes:
         source, prepared, quantized = (Path(folder) / name for name in ("fp32.onnx", "pre.onnx", "int8.onnx"))
         source.write_bytes(model)
         quant_pre_process(str(source), str(prepared), skip_symbolic_shape=True)
-        quantize_static(str(prepared), str(quantized), _Calibration(calibration), quant_format=QuantFormat.QDQ,
-                        activation_type=QuantType.QUInt8, weight_type=QuantType.QInt8, per_channel=True,
+        quantize_static(str(prepared), str(quantized), _Calibration(calibration), **INT8_SCHEME,
                         op_types_to_quantize=list(QUANTIZED_OPS))
         return quantized.read_bytes()
 

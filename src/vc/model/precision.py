@@ -41,6 +41,10 @@ PRECISIONS = ("fp32", "fp16", "int8")
 #: and quantized again. With them the networks run faster and their heat maps come closer to fp32
 #: (docs/decisions/0004-network-architecture.md).
 QUANTIZED_OPS = ("Conv", "Relu", "Add", "Concat")
+#: The int8 scheme, here and for the crop models (:mod:`vc.model.crop_precision`): QDQ, uint8 activations, int8
+#: weights per output channel.
+INT8_SCHEME = {"quant_format": QuantFormat.QDQ, "activation_type": QuantType.QUInt8,
+               "weight_type": QuantType.QInt8, "per_channel": True}
 #: ``auto`` keeps int8 for a region when its held-out AP50 and PCKh@0.5 fall by at most this much from fp32.
 AUTO_TOLERANCE = {"ap50": 0.01, "pckh": 0.02}
 
@@ -79,8 +83,7 @@ def to_int8(model: bytes, calibration: list[Sample], crop_size: tuple[int, int])
         source.write_bytes(model)
         quant_pre_process(str(source), str(prepared), skip_symbolic_shape=True)
         quantize_static(str(prepared), str(quantized), _Calibration(calibration, crop_size, _input_name(model)),
-                        quant_format=QuantFormat.QDQ, activation_type=QuantType.QUInt8,
-                        weight_type=QuantType.QInt8, per_channel=True, op_types_to_quantize=list(QUANTIZED_OPS),
+                        **INT8_SCHEME, op_types_to_quantize=list(QUANTIZED_OPS),
                         extra_options={"TensorQuantOverrides": network_input_overrides(onnx.load(str(prepared)))})
         return quantize_pixels_directly(onnx.load(str(quantized))).SerializeToString()
 
