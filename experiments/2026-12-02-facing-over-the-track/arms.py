@@ -9,12 +9,13 @@ people more often right. The arms, each a tracker fed the same runtime output:
 - "tall: the model": people the facing model reads twice (at least MIRRORED_FROM_PX tall) keep its order; the walk
   decides for the others as before.
 - "tall: the track's vote": the same people ordered by the sign of the facing model's handedness averaged over the
-  track's window (the frames it saw them in, this one with them); the walk decides for the others.
+  track's window (1 s, the tracker's: the frames it saw them in, this one with them); the walk decides for the
+  others.
+- "tall: a 3 s vote": the same, the readings of the track's last 3 s voting.
 - "tall: the model, unless the walk is clear": this frame's reading where the walk is not clear; a clear walk
   decides (what the vote adds to no longer letting an unclear walk decide).
 - "tall: the vote, unless the walk is clear": the vote where the walk is not clear; a clear walk decides.
-- "tall: a 3 s vote, unless the walk is clear": the same, the readings of the track's last 3 s voting (else 1 s,
-  the tracker's window).
+- "tall: a 3 s vote, unless the walk is clear": the same, over 3 s.
 - "everyone: the vote where the walk is unclear": every person the facing model read; a clear walk decides as
   before, elsewhere the track's vote rather than the networks' confidence weighed against an unclear walk.
 
@@ -112,6 +113,7 @@ class VotingTracker(Tracker):
 ARMS = {"control": (None, False, False),
         "tall: the model": ("tall", False, False),
         "tall: the track's vote": ("tall", True, False),
+        "tall: a 3 s vote": ("tall", True, False, 3.0),
         "tall: the model, unless the walk is clear": ("tall", False, True),
         "tall: the vote, unless the walk is clear": ("tall", True, True),
         "tall: a 3 s vote, unless the walk is clear": ("tall", True, True, 3.0),

@@ -13,7 +13,7 @@ from collections import defaultdict
 import numpy as np
 
 HALVES = {1: "choosing", 91: "confirming", 201: "confirming"}
-ARMS = ("tall: the model", "tall: the track's vote", "tall: the model, unless the walk is clear",
+ARMS = ("tall: the model", "tall: the track's vote", "tall: a 3 s vote", "tall: the model, unless the walk is clear",
         "tall: the vote, unless the walk is clear", "tall: a 3 s vote, unless the walk is clear",
         "everyone: the vote where the walk is unclear")
 
