@@ -9,7 +9,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from vc.deploy.facing import FACE_AHEAD_OF_EARS
+from vc.deploy.facing import FACE_AHEAD_OF_EARS, MIRRORED_FROM_PX
 from vc.deploy.heatmaps import PAIRS
 from vc.deploy.runtime import Person
 from vc.deploy.tracking import (
@@ -104,6 +104,36 @@ def test_a_box_growing_faster_than_a_walk_allows_leaves_the_facing_to_appearance
     assert all(person.facing == ("motion" if walk else "appearance") for person in people[4:])
     assert all(_seen_from_behind(person) != walk for person in people[4:])  # coming closer: seen from the front
 
+
+
+def _read_by_the_facing_model(person: Person) -> Person:
+    """``person`` as the runtime leaves someone the bundle's facing model ordered: the networks hedging beside it."""
+    return replace(person, network_handedness=0.0)
+
+
+@pytest.mark.parametrize("height, voted", [(MIRRORED_FROM_PX + 20.0, True), (MIRRORED_FROM_PX - 20.0, False)])
+def test_a_tall_person_standing_faces_the_way_the_facing_model_reads_them_over_the_track(height, voted):
+    """Someone standing (no walk to read) whom the facing model reads from behind in seven frames of ten, and from
+    the front, less surely, in the others: read twice (tall), their track's vote orders every frame as seen from
+    behind; read once (small), each frame keeps its own reading, as before."""
+    tracker, readings = Tracker(), [0.6, -0.3, 0.6, 0.6, -0.3, 0.6, 0.6, -0.3, 0.6, 0.6]
+    people = [tracker.update([_read_by_the_facing_model(_person(300.0, 300.0, reading, height=height))], k / 10.0)[0]
+              for k, reading in enumerate(readings)]
+    if voted:
+        assert all(_seen_from_behind(person) and person.facing == "track" for person in people)
+    else:
+        assert [_seen_from_behind(person) for person in people] == [reading > 0 for reading in readings]
+        assert all(person.facing == "appearance" for person in people)
+
+
+def test_a_clear_walk_still_decides_for_a_tall_person_the_facing_model_reads():
+    """The walk's facing is right more often than the model's where the walk is clear
+    (docs/decisions/0044-facing-voted-over-the-track.md): a tall person walking up the image is seen from behind
+    however surely the model reads them from the front."""
+    tracker, height = Tracker(), MIRRORED_FROM_PX + 20.0
+    people = [tracker.update([_read_by_the_facing_model(_person(300.0, 300.0 - 80.0 * k / 10.0, -0.9, height=height))],
+                             k / 10.0)[0] for k in range(10)]
+    assert all(person.facing == "motion" and _seen_from_behind(person) for person in people[4:])
 
 
 def test_a_sighting_of_no_height_is_read_without_a_numerical_warning():

@@ -100,8 +100,9 @@ class Person:
     pair_handedness: np.ndarray | None = None  # (8,) the network's per pair (vc.deploy.decode.DecodedPerson), or the
     #                                             facing model's where the bundle has one (vc.deploy.facing)
     track: int | None = None  # set by a vc.deploy.tracking.Tracker
-    facing: str = "appearance"  # what ordered the left/right pairs: "appearance" (the network) or "motion" (the
-    #                             tracker, which also turned the face the way the person walks)
+    facing: str = "appearance"  # what ordered the left/right pairs: "appearance" (the network or the facing model,
+    #                             this frame), "motion" (the tracker, which also turned the face the way the person
+    #                             walks) or "track" (the tracker, by the facing model's readings over the track)
     coasted: bool = False  # not seen in this frame: carried by its track (vc.deploy.tracking), without a mask
     weak: bool = False  # below the bundle's centre threshold: decoded only for a tracker to continue a track with
     across_seam: bool = False  # feet in a neighbour's owned area, kept within SEAM_FOOT_TOLERANCE (module docstring)

@@ -53,6 +53,11 @@ the time unseen: precision pays little, as the score ranks it below what is seen
    legs. At eye level it looks just like a walk toward or away from the camera (the head stays on the horizon and
    only the feet move), and there the walk read three in four such people the wrong way round
    (docs/decisions/0028-a-walk-that-is-not-a-walk.md).
+   People the bundle's facing model reads twice (:data:`vc.deploy.facing.MIRRORED_FROM_PX` and taller) are instead
+   ordered, wherever their walk is not clear (or not a walk, or too short to tell), by the sign of that model's
+   handedness averaged over the track's last ``facing_vote_s`` seconds (:func:`model_reading`;
+   ``facing == "track"``): its readings of one person err frame by frame, and a person standing, turning or coming
+   out from behind another does not walk the way they face (docs/decisions/0044-facing-voted-over-the-track.md).
 4. A person whose facing came from motion gets each left/right pair put in the image order that facing implies,
    and their face turned the way they walk (:func:`vc.deploy.facing.face_ahead`): the nose and the eyes are put
    ahead of the ears' midpoint, toward the side the feet move to, by the share of the walk that crosses the view
@@ -74,7 +79,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from vc.deploy.boxes import box_iou, foot_points
-from vc.deploy.facing import face_ahead
+from vc.deploy.facing import MIRRORED_FROM_PX, face_ahead
 from vc.deploy.frames import FrameSource
 from vc.deploy.heatmaps import PAIRS, swap_pairs
 from vc.deploy.runtime import Person, within_frame
@@ -104,6 +109,9 @@ class TrackingConfig:
     # is a person coming out from behind another or going behind them, not a walk, and the walk does not decide
     # their facing (docs/decisions/0028-a-walk-that-is-not-a-walk.md); inf: it always may
     max_walk_growth_per_s: float = 0.4
+    # the seconds of a tall person's facing-model readings that vote where the walk is not clear
+    # (docs/decisions/0044-facing-voted-over-the-track.md)
+    facing_vote_s: float = 3.0
     coast_s: float = 0.5  # a track unseen up to this long is still reported (0: never)
     coast_min_observations: int = 3  # a track seen this often is a person, not a passing false alarm
     coast_score_decay_s: float = 1.0
@@ -125,6 +133,7 @@ class _Track:
     identity: int
     times: list[float] = field(default_factory=list)
     boxes: list[np.ndarray] = field(default_factory=list)  # (4,) frame px
+    readings: list[tuple[float, float]] = field(default_factory=list)  # (time, model_reading) within a vote
     observations: int = 0
     last: Person | None = None
     appearance: np.ndarray | None = None  # (2, 64) running mean of the person's colour histograms
@@ -134,6 +143,16 @@ class _Track:
         self.times = [self.times[k] for k in keep] + [time_s]
         self.boxes = [self.boxes[k] for k in keep] + [np.asarray(box, np.float64)]
         self.observations += 1
+
+    def read(self, time_s: float, reading: float, vote_s: float) -> None:
+        """Keeps a :func:`model_reading` of this sighting, and those of the last ``vote_s`` seconds."""
+        self.readings = [(t, r) for t, r in self.readings if t >= time_s - vote_s] + [(time_s, reading)]
+
+    def facing_vote(self, time_s: float, vote_s: float) -> float:
+        """The facing model's readings of the last ``vote_s`` seconds to ``time_s``, averaged (> 0 seen from behind;
+        0 without any)."""
+        recent = [r for t, r in self.readings if t >= time_s - vote_s]
+        return sum(recent) / len(recent) if recent else 0.0
 
     def shift(self, time_s: float) -> np.ndarray:
         """How far (4,) the last box moves by ``time_s`` at the window's velocity, frame px."""
@@ -180,6 +199,25 @@ def facing_pairs(person: Person, seen_from_behind: bool) -> np.ndarray:
         return swap_pairs(person.keypoints, (person.pair_handedness >= 0) != seen_from_behind)
     image_left_first = [person.keypoints[left, 0] <= person.keypoints[right, 0] for left, right in PAIRS]
     return swap_pairs(person.keypoints, np.array(image_left_first) != seen_from_behind)
+
+
+def model_reading(person: Person) -> float | None:
+    """The bundle's facing model's handedness for a person it read twice (> 0 seen from behind, its size the
+    model's confidence; :data:`vc.deploy.facing.MIRRORED_FROM_PX` and taller), which a track averages (step 3);
+    None for anyone else: people the model did not read, and smaller people, read once, whose readings gained
+    nothing over the walk (docs/decisions/0044-facing-voted-over-the-track.md)."""
+    if person.network_handedness is None or person.box[3] - person.box[1] < MIRRORED_FROM_PX:
+        return None
+    return person.handedness
+
+
+def _by_vote(person: Person, track: _Track, vote_s: float) -> Person:
+    """Step 3 for a person the facing model read twice and whose walk is not clear: pairs ordered by the sign of
+    the track's vote over ``vote_s`` seconds (:meth:`_Track.facing_vote`), their face left as the model turned it."""
+    vote = track.facing_vote(track.times[-1], vote_s)
+    if vote == 0.0:
+        return person
+    return replace(person, keypoints=facing_pairs(person, seen_from_behind=vote > 0), facing="track")
 
 
 def appearance(person: Person, frame: np.ndarray) -> np.ndarray | None:
@@ -238,6 +276,9 @@ class Tracker:
         result = []
         for person, track in matched:
             track.add(time_s, person.box, config.window_s)
+            reading = model_reading(person)
+            if reading is not None:
+                track.read(time_s, reading, config.facing_vote_s)
             look = looks.get(id(person))
             if look is not None:
                 track.appearance = look if track.appearance is None else (
@@ -287,19 +328,20 @@ class Tracker:
     def _faced(self, person: Person, track: _Track) -> Person:
         """Steps 2-4 for one person whose track now ends with this frame."""
         config = self.config
+        voted = model_reading(person) is not None
         if len(track.times) < config.min_observations:  # the track holds its window's observations only
-            return person
+            return _by_vote(person, track, config.facing_vote_s) if voted else person
         boxes, times = np.array(track.boxes), np.array(track.times)
         feet, height = foot_points(boxes), float((boxes[:, 3] - boxes[:, 1]).sum() / len(boxes))
         speed, error = foot_speed(times, feet[:, 1], height, config.foot_jitter_heights)
         clear = abs(speed) >= config.min_significance * error
-        if speed == 0.0 or not (clear or abs(person.trusted_handedness) < config.trust_network):
-            return person
+        if speed == 0.0 or not (clear or (not voted and abs(person.trusted_handedness) < config.trust_network)):
+            return _by_vote(person, track, config.facing_vote_s) if voted else person
         # a box of no height (clipped to the frame's edge) counts as 1 px, as in the association
         heights = np.maximum(boxes[:, 3] - boxes[:, 1], 1.0)
         growth, _ = foot_speed(times, np.log(heights), 1.0, config.foot_jitter_heights)
         if abs(growth) > config.max_walk_growth_per_s:
-            return person
+            return _by_vote(person, track, config.facing_vote_s) if voted else person
         across, _ = foot_speed(times, feet[:, 0], height, config.foot_jitter_heights)
         keypoints = face_ahead(facing_pairs(person, seen_from_behind=speed < 0), float(person.box[3] - person.box[1]),
                                float(np.clip(across / config.profile_speed_heights_per_s, -1.0, 1.0)))
