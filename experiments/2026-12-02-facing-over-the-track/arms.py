@@ -26,7 +26,8 @@ for the people an arm covers.
 Each frame is run once by the bundle as shipped; every tracker gets its own copy of the people, and is scored against
 YOLO11n-pose @1280 as vc-eval scores pose (people matched to the same ground truth by both).
 
-    PYTHONPATH=src python experiments/2026-12-02-facing-over-the-track/arms.py BUNDLE SEED CAMERA both|0|1 \
+    git worktree add /tmp/base 7dd94b0   # the tracker these arms subclass, as it was before decision 0044
+    PYTHONPATH=/tmp/base/src python experiments/2026-12-02-facing-over-the-track/arms.py BUNDLE SEED CAMERA both|0|1 \
         >> experiments/2026-12-02-facing-over-the-track/results/arms.jsonl
 
 HALF 0 is the choosing half, 1 the confirming one.

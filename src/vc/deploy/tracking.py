@@ -283,7 +283,7 @@ class Tracker:
             if look is not None:
                 track.appearance = look if track.appearance is None else (
                     (1 - APPEARANCE_RENEWAL) * track.appearance + APPEARANCE_RENEWAL * look)
-            track.last = self._faced(replace(person, track=track.identity), track)
+            track.last = self._faced(replace(person, track=track.identity), track, voted=reading is not None)
             result.append(track.last)
         seen = {id(track) for _, track in matched}
         boxes = np.array([p.box for p in result], np.float64).reshape(-1, 4)
@@ -325,23 +325,27 @@ class Tracker:
             result.append(assigned.get(i))
         return result
 
-    def _faced(self, person: Person, track: _Track) -> Person:
-        """Steps 2-4 for one person whose track now ends with this frame."""
+    def _faced(self, person: Person, track: _Track, voted: bool) -> Person:
+        """Steps 2-4 for one person whose track now ends with this frame; ``voted``: the facing model read them twice
+        (:func:`model_reading`)."""
         config = self.config
-        voted = model_reading(person) is not None
-        if len(track.times) < config.min_observations:  # the track holds its window's observations only
+
+        def not_by_the_walk() -> Person:
             return _by_vote(person, track, config.facing_vote_s) if voted else person
+
+        if len(track.times) < config.min_observations:  # the track holds its window's observations only
+            return not_by_the_walk()
         boxes, times = np.array(track.boxes), np.array(track.times)
         feet, height = foot_points(boxes), float((boxes[:, 3] - boxes[:, 1]).sum() / len(boxes))
         speed, error = foot_speed(times, feet[:, 1], height, config.foot_jitter_heights)
         clear = abs(speed) >= config.min_significance * error
         if speed == 0.0 or not (clear or (not voted and abs(person.trusted_handedness) < config.trust_network)):
-            return _by_vote(person, track, config.facing_vote_s) if voted else person
+            return not_by_the_walk()
         # a box of no height (clipped to the frame's edge) counts as 1 px, as in the association
         heights = np.maximum(boxes[:, 3] - boxes[:, 1], 1.0)
         growth, _ = foot_speed(times, np.log(heights), 1.0, config.foot_jitter_heights)
         if abs(growth) > config.max_walk_growth_per_s:
-            return _by_vote(person, track, config.facing_vote_s) if voted else person
+            return not_by_the_walk()
         across, _ = foot_speed(times, feet[:, 0], height, config.foot_jitter_heights)
         keypoints = face_ahead(facing_pairs(person, seen_from_behind=speed < 0), float(person.box[3] - person.box[1]),
                                float(np.clip(across / config.profile_speed_heights_per_s, -1.0, 1.0)))
