@@ -111,15 +111,19 @@ def _read_by_the_facing_model(person: Person) -> Person:
     return replace(person, network_handedness=0.0)
 
 
-@pytest.mark.parametrize("height, voted", [(MIRRORED_FROM_PX + 20.0, True), (MIRRORED_FROM_PX - 20.0, False)])
-def test_a_tall_person_standing_faces_the_way_the_facing_model_reads_them_over_the_track(height, voted):
+@pytest.mark.parametrize("height, read", [(MIRRORED_FROM_PX + 20.0, True), (MIRRORED_FROM_PX - 20.0, True),
+                                          (MIRRORED_FROM_PX + 20.0, False)])
+def test_a_person_standing_faces_the_way_the_facing_model_reads_them_over_the_track(height, read):
     """Someone standing (no walk to read) whom the facing model reads from behind in seven frames of ten, and from
-    the front, less surely, in the others: read twice (tall), their track's vote orders every frame as seen from
-    behind; read once (small), each frame keeps its own reading, as before."""
+    the front, less surely, in the others: read by it, tall (read twice) or small (read once by the head's
+    colours), their track's vote orders every frame as seen from behind
+    (docs/decisions/0047-small-people-voted-over-the-track.md); ordered by the networks alone, each frame keeps its
+    own reading."""
     tracker, readings = Tracker(), [0.6, -0.3, 0.6, 0.6, -0.3, 0.6, 0.6, -0.3, 0.6, 0.6]
-    people = [tracker.update([_read_by_the_facing_model(_person(300.0, 300.0, reading, height=height))], k / 10.0)[0]
-              for k, reading in enumerate(readings)]
-    if voted:
+    people = [_person(300.0, 300.0, reading, height=height) for reading in readings]
+    people = [tracker.update([_read_by_the_facing_model(person) if read else person], k / 10.0)[0]
+              for k, person in enumerate(people)]
+    if read:
         assert all(_seen_from_behind(person) and person.facing == "track" for person in people)
     else:
         assert [_seen_from_behind(person) for person in people] == [reading > 0 for reading in readings]

@@ -23,8 +23,8 @@ the image: where the networks cannot tell, they put the nose between the ears, w
    mirror's face turned back: a mirror keeps a front a front, so where the model is unsure of a person its two
    readings err apart (docs/decisions/0042-tall-people-read-twice.md).
 3. The person's pairs are ordered by that facing, and their handedness becomes ``-tanh(logit / 2)`` on every pair
-   (> 0 seen from behind, its size the model's confidence). A tracker averages it over the track for people read
-   twice, where their walk is not clear (:mod:`vc.deploy.tracking`).
+   (> 0 seen from behind, its size the model's confidence). A tracker averages it over the track where their walk
+   is not clear (:mod:`vc.deploy.tracking`).
 4. The nose and the eyes are put ahead of the ears' midpoint by the body model's distances times where the face
    points (:func:`face_ahead`); the tracker turns them the same way by the walk where it decides the facing.
 """

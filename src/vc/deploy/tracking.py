@@ -53,11 +53,12 @@ the time unseen: precision pays little, as the score ranks it below what is seen
    legs. At eye level it looks just like a walk toward or away from the camera (the head stays on the horizon and
    only the feet move), and there the walk read three in four such people the wrong way round
    (docs/decisions/0028-a-walk-that-is-not-a-walk.md).
-   People the bundle's facing model reads twice (:data:`vc.deploy.facing.MIRRORED_FROM_PX` and taller) are instead
-   ordered, wherever their walk is not clear (or not a walk, or too short to tell), by the sign of that model's
-   handedness averaged over the track's last ``facing_vote_s`` seconds (:func:`model_reading`;
-   ``facing == "track"``): its readings of one person err frame by frame, and a person standing, turning or coming
-   out from behind another does not walk the way they face (docs/decisions/0044-facing-voted-over-the-track.md).
+   People the bundle's facing model read are instead ordered, wherever their walk is not clear (or not a walk, or
+   too short to tell), by the sign of that model's handedness averaged over the track's last ``facing_vote_s``
+   seconds (:func:`model_reading`; ``facing == "track"``): its readings of one person err frame by frame, and a
+   person standing, turning or coming out from behind another does not walk the way they face
+   (docs/decisions/0044-facing-voted-over-the-track.md). That holds for small people, read once by the head's
+   colours, as for tall ones read twice (docs/decisions/0047-small-people-voted-over-the-track.md).
 4. A person whose facing came from motion gets each left/right pair put in the image order that facing implies,
    and their face turned the way they walk (:func:`vc.deploy.facing.face_ahead`): the nose and the eyes are put
    ahead of the ears' midpoint, toward the side the feet move to, by the share of the walk that crosses the view
@@ -79,7 +80,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from vc.deploy.boxes import box_iou, foot_points
-from vc.deploy.facing import MIRRORED_FROM_PX, face_ahead
+from vc.deploy.facing import face_ahead
 from vc.deploy.frames import FrameSource
 from vc.deploy.heatmaps import PAIRS, swap_pairs
 from vc.deploy.runtime import Person, within_frame
@@ -109,7 +110,7 @@ class TrackingConfig:
     # is a person coming out from behind another or going behind them, not a walk, and the walk does not decide
     # their facing (docs/decisions/0028-a-walk-that-is-not-a-walk.md); inf: it always may
     max_walk_growth_per_s: float = 0.4
-    # the seconds of a tall person's facing-model readings that vote where the walk is not clear
+    # the seconds of a person's facing-model readings that vote where the walk is not clear
     # (docs/decisions/0044-facing-voted-over-the-track.md)
     facing_vote_s: float = 3.0
     coast_s: float = 0.5  # a track unseen up to this long is still reported (0: never)
@@ -202,17 +203,16 @@ def facing_pairs(person: Person, seen_from_behind: bool) -> np.ndarray:
 
 
 def model_reading(person: Person) -> float | None:
-    """The bundle's facing model's handedness for a person it read twice (> 0 seen from behind, its size the
-    model's confidence; :data:`vc.deploy.facing.MIRRORED_FROM_PX` and taller), which a track averages (step 3);
-    None for anyone else: people the model did not read, and smaller people, read once, whose readings gained
-    nothing over the walk (docs/decisions/0044-facing-voted-over-the-track.md)."""
-    if person.network_handedness is None or person.box[3] - person.box[1] < MIRRORED_FROM_PX:
+    """The bundle's facing model's handedness for a person it read (> 0 seen from behind, its size the model's
+    confidence), which a track averages (step 3); None for a person it did not read (a bundle without one, a
+    weak person), whose order the networks gave."""
+    if person.network_handedness is None:
         return None
     return person.handedness
 
 
 def _by_vote(person: Person, track: _Track, vote_s: float) -> Person:
-    """Step 3 for a person the facing model read twice and whose walk is not clear: pairs ordered by the sign of
+    """Step 3 for a person the facing model read and whose walk is not clear: pairs ordered by the sign of
     the track's vote over ``vote_s`` seconds (:meth:`_Track.facing_vote`), their face left as the model turned it."""
     vote = track.facing_vote(track.times[-1], vote_s)
     if vote == 0.0:
@@ -326,7 +326,7 @@ class Tracker:
         return result
 
     def _faced(self, person: Person, track: _Track, voted: bool) -> Person:
-        """Steps 2-4 for one person whose track now ends with this frame; ``voted``: the facing model read them twice
+        """Steps 2-4 for one person whose track now ends with this frame; ``voted``: the facing model read them
         (:func:`model_reading`)."""
         config = self.config
 
