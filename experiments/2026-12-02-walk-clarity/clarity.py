@@ -2,7 +2,7 @@
 orders everyone else (decision 0047)? Pose agreement with YOLO11n-pose @1280 tracked, both halves (frozen, issue 57).
 
     PYTHONPATH=src:experiments/2026-12-02-small-people-voted \
-        python experiments/2026-12-02-walk-clarity/arms.py BUNDLE SEED CAMERA >> results/arms.jsonl
+        python experiments/2026-12-02-walk-clarity/clarity.py BUNDLE SEED CAMERA >> results/arms.jsonl
 
 The walk decides where the foot's speed is at least ``min_significance`` standard errors from zero, fitted over the
 last ``window_s`` seconds (vc.deploy.tracking, step 3). Both were set when an unclear walk had no better cue than the
