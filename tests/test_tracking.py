@@ -130,13 +130,26 @@ def test_a_person_standing_faces_the_way_the_facing_model_reads_them_over_the_tr
         assert all(person.facing == "appearance" for person in people)
 
 
-def test_a_clear_walk_still_decides_for_a_tall_person_the_facing_model_reads():
+@pytest.mark.parametrize("reading, by_the_walk", [(-0.3, True), (-0.9, False)])
+def test_a_clear_walk_decides_unless_the_facing_model_is_surely_the_other_way(reading, by_the_walk):
     """The walk's facing is right more often than the model's where the walk is clear
-    (docs/decisions/0044-facing-voted-over-the-track.md): a tall person walking up the image is seen from behind
-    however surely the model reads them from the front."""
+    (docs/decisions/0044-facing-voted-over-the-track.md): a person walking up the image is seen from behind though
+    the model reads them from the front, unsurely. Read from the front surely (a vote of 0.9 against the
+    ``vote_overrules_walk`` of 0.5) over the track, they are seen from the front: someone stepping back, or stopped
+    and turned, still drifts on their feet (docs/decisions/0049-a-sure-vote-overrules-the-walk.md)."""
     tracker, height = Tracker(), MIRRORED_FROM_PX + 20.0
-    people = [tracker.update([_read_by_the_facing_model(_person(300.0, 300.0 - 80.0 * k / 10.0, -0.9, height=height))],
-                             k / 10.0)[0] for k in range(10)]
+    people = [tracker.update([_read_by_the_facing_model(_person(300.0, 300.0 - 80.0 * k / 10.0, reading,
+                                                                height=height))], k / 10.0)[0] for k in range(10)]
+    if by_the_walk:
+        assert all(person.facing == "motion" and _seen_from_behind(person) for person in people[4:])
+    else:
+        assert all(person.facing == "track" and not _seen_from_behind(person) for person in people)
+
+
+def test_a_walk_decides_against_any_vote_where_the_vote_may_never_overrule_it():
+    tracker = Tracker(TrackingConfig(vote_overrules_walk=float("inf")))
+    people = [tracker.update([_read_by_the_facing_model(_person(300.0, 300.0 - 80.0 * k / 10.0, -0.9))], k / 10.0)[0]
+              for k in range(10)]
     assert all(person.facing == "motion" and _seen_from_behind(person) for person in people[4:])
 
 

@@ -58,7 +58,10 @@ the time unseen: precision pays little, as the score ranks it below what is seen
    seconds (:func:`model_reading`; ``facing == "track"``): its readings of one person err frame by frame, and a
    person standing, turning or coming out from behind another does not walk the way they face
    (docs/decisions/0044-facing-voted-over-the-track.md). That holds for small people, read once by the head's
-   colours, as for tall ones read twice (docs/decisions/0047-small-people-voted-over-the-track.md).
+   colours, as for tall ones read twice (docs/decisions/0047-small-people-voted-over-the-track.md). A clear walk
+   decides for them too, unless that vote reads them the other way at least ``vote_overrules_walk`` surely: someone
+   who has stopped, turned or is stepping back still drifts clearly on their feet, and the model's readings over
+   seconds are then the better cue (docs/decisions/0049-a-sure-vote-overrules-the-walk.md).
 4. A person whose facing came from motion gets each left/right pair put in the image order that facing implies,
    and their face turned the way they walk (:func:`vc.deploy.facing.face_ahead`): the nose and the eyes are put
    ahead of the ears' midpoint, toward the side the feet move to, by the share of the walk that crosses the view
@@ -113,6 +116,9 @@ class TrackingConfig:
     # the seconds of a person's facing-model readings that vote where the walk is not clear
     # (docs/decisions/0044-facing-voted-over-the-track.md)
     facing_vote_s: float = 3.0
+    # a vote at least this sure the other way (of 1) overrules a clear walk
+    # (docs/decisions/0049-a-sure-vote-overrules-the-walk.md); inf: it never does
+    vote_overrules_walk: float = 0.5
     coast_s: float = 0.5  # a track unseen up to this long is still reported (0: never)
     coast_min_observations: int = 3  # a track seen this often is a person, not a passing false alarm
     coast_score_decay_s: float = 1.0
@@ -340,6 +346,10 @@ class Tracker:
         speed, error = foot_speed(times, feet[:, 1], height, config.foot_jitter_heights)
         clear = abs(speed) >= config.min_significance * error
         if speed == 0.0 or not (clear or (not voted and abs(person.trusted_handedness) < config.trust_network)):
+            return not_by_the_walk()
+        # the vote is > 0 for seen from behind, the walk's speed < 0 (away, up the image) for the same
+        if voted and float(np.sign(speed)) * track.facing_vote(track.times[-1], config.facing_vote_s) >= \
+                config.vote_overrules_walk:
             return not_by_the_walk()
         # a box of no height (clipped to the frame's edge) counts as 1 px, as in the association
         heights = np.maximum(boxes[:, 3] - boxes[:, 1], 1.0)
