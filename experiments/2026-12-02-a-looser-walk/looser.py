@@ -12,28 +12,16 @@ walk-clarity (``clarity.half``).
 
 from __future__ import annotations
 
-import json
-import sys
-from pathlib import Path
+from functools import partial
 
-import arms as voted  # experiments/2026-12-02-small-people-voted/arms.py: data and halves
 import clarity  # experiments/2026-12-02-walk-clarity/clarity.py: the frame loop and scoring
 
-from vc.deploy.tracking import TrackingConfig
+from vc.deploy.tracking import Tracker, TrackingConfig
 
 ARMS = {"as shipped": TrackingConfig(),
         "a walk 1.5 standard errors clear": TrackingConfig(min_significance=1.5),
         "a walk 1 standard error clear": TrackingConfig(min_significance=1.0)}
 
 
-def main() -> None:
-    bundle, seed, camera = Path(sys.argv[1]), int(sys.argv[2]), sys.argv[3]
-    clarity.ARMS = ARMS
-    for name, (first, last, step) in zip(voted.HALVES, voted.DATA[camera][3], strict=True):
-        readings = clarity.half(bundle, camera, first, last, step)
-        print(json.dumps({"bundle": str(bundle), "seed": seed, "camera": camera, "half": name,
-                          "frames": [first, last, step], **readings}), flush=True)
-
-
 if __name__ == "__main__":
-    main()
+    clarity.run({name: partial(Tracker, config) for name, config in ARMS.items()})

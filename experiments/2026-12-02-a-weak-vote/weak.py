@@ -12,11 +12,6 @@ scoring as walk-clarity (``clarity.half``).
 
 from __future__ import annotations
 
-import json
-import sys
-from pathlib import Path
-
-import arms as voted  # experiments/2026-12-02-small-people-voted/arms.py: data and halves
 import clarity  # experiments/2026-12-02-walk-clarity/clarity.py: the frame loop and scoring
 
 from vc.deploy.runtime import Person
@@ -41,15 +36,5 @@ ARMS = {"as shipped": lambda: Tracker(TrackingConfig()),
         "a vote under 0.3 does not count": lambda: WeakVoteTracker(0.3)}
 
 
-def main() -> None:
-    bundle, seed, camera = Path(sys.argv[1]), int(sys.argv[2]), sys.argv[3]
-    # clarity.half builds each arm's tracker as Tracker(ARMS[name]): here ARMS holds factories and Tracker calls them
-    clarity.ARMS, clarity.Tracker = ARMS, lambda factory: factory()
-    for name, (first, last, step) in zip(voted.HALVES, voted.DATA[camera][3], strict=True):
-        readings = clarity.half(bundle, camera, first, last, step)
-        print(json.dumps({"bundle": str(bundle), "seed": seed, "camera": camera, "half": name,
-                          "frames": [first, last, step], **readings}), flush=True)
-
-
 if __name__ == "__main__":
-    main()
+    clarity.run(ARMS)

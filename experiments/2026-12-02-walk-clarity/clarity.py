@@ -18,6 +18,8 @@ from __future__ import annotations
 import copy
 import json
 import sys
+from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 
 import arms as voted  # experiments/2026-12-02-small-people-voted/arms.py
@@ -39,13 +41,16 @@ ARMS = {"as shipped": TrackingConfig(),
         "a walk fitted over 2 s": TrackingConfig(window_s=2.0)}
 
 
-def half(bundle: Path, camera: str, first: int, last: int, step: int) -> dict:
+def half(bundle: Path, camera: str, first: int, last: int, step: int,
+         arms: dict[str, Callable[[], Tracker]]) -> dict:
+    """Each arm's pose agreement tracked over frames FIRST..LAST of CAMERA, every STEP-th scored; ``arms``: each arm's
+    tracker factory."""
     video, gt, fps, _ = voted.DATA[camera]
     truth = read_mot_boxes(Path(gt))
     reference = YoloPoseOnnx(Path(voted.REFERENCE), threads=2)
-    trackers = {name: Tracker(config) for name, config in ARMS.items()}
-    scored: dict[str, list[ImageResult]] = {name: [] for name in ARMS}
-    facing: dict[str, dict[str, int]] = {name: {} for name in ARMS}
+    trackers = {name: make() for name, make in arms.items()}
+    scored: dict[str, list[ImageResult]] = {name: [] for name in arms}
+    facing: dict[str, dict[str, int]] = {name: {} for name in arms}
     theirs: list[ImageResult] = []
     with Runtime(bundle, threads=2, weak_people_above=TrackingConfig().weak_people_above) as run:
         for frame in FrameSource(Path(video), FrameRange(first, last, 1)):
@@ -71,12 +76,15 @@ def half(bundle: Path, camera: str, first: int, last: int, step: int) -> dict:
     return readings
 
 
-def main() -> None:
+def run(arms: dict[str, Callable[[], Tracker]]) -> None:
+    """One JSON line per half of the command line's BUNDLE SEED CAMERA, every arm a tracker from its factory (also
+    the other tracker experiments of 2026-12-02)."""
     bundle, seed, camera = Path(sys.argv[1]), int(sys.argv[2]), sys.argv[3]
     for name, (first, last, step) in zip(voted.HALVES, voted.DATA[camera][3], strict=True):
+        readings = half(bundle, camera, first, last, step, arms)
         print(json.dumps({"bundle": str(bundle), "seed": seed, "camera": camera, "half": name,
-                          "frames": [first, last, step], **half(bundle, camera, first, last, step)}), flush=True)
+                          "frames": [first, last, step], **readings}), flush=True)
 
 
 if __name__ == "__main__":
-    main()
+    run({name: partial(Tracker, config) for name, config in ARMS.items()})
