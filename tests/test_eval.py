@@ -115,6 +115,10 @@ def test_vc_eval_scores_every_detector_and_draws_the_result(bundle, tmp_path):
     assert all(d["ap50_in_annotated_area"] == d["ap50"] for d in detectors.values())
     # The video is tracked at its own rate, and the bundle is scored with and without tracking.
     assert metrics["tracking"]["fps"] == 10 and metrics["tracking"]["config"]["window_s"] > 0
+    # The one person stands there from the first frame: nobody comes into view.
+    assert metrics["arrivals"]["people"] == [] and metrics["arrivals"]["summary"]["walking in at an edge"] == {
+        "people": 0, "found_in_first_frame": 0, "never_found": 0, "median_delay_frames": None,
+        "found_within": {"seconds": 1.0, "people": 0}, "median_delay_s": None}
     # The bundle's pose and the second model's against the first: a model agrees with itself everywhere.
     agreement = metrics["pose_agreement"]
     assert agreement["reference"] == "yolo" and set(agreement["agreement"]) == {

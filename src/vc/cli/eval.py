@@ -112,6 +112,16 @@ def _miss_summary(misses: MissAnalysis) -> str:
     return "\n".join(lines)
 
 
+def _arrivals_summary(summary: dict) -> str:
+    def kind(label: str, entry: dict) -> str:
+        within = f", within {entry['found_within']['seconds']:g} s {entry['found_within']['people']}" \
+            if "found_within" in entry else ""
+        return (f"{entry['people']} {label}: found in their first frame {entry['found_in_first_frame']}{within}, "
+                f"never {entry['never_found']}")
+    kinds = [kind(label, entry) for label, entry in summary.items() if entry["people"]]
+    return "  people coming into view: " + ("; ".join(kinds) if kinds else "none while scored")
+
+
 def report(result: EvaluationReport, output: Path) -> None:
     print(f"vc-eval: {result.frames} frames of {result.video.name}, {result.evaluations[OURS].ground_truth} people -> "
           f"{output}")
@@ -120,6 +130,7 @@ def report(result: EvaluationReport, output: Path) -> None:
               f"area)   {summary['ms_per_frame']['median']:8.1f} ms/frame")
     if result.misses is not None:
         print(_miss_summary(result.misses))
+        print(_arrivals_summary(result.metrics["arrivals"]["summary"]))
     tracking = result.metrics["tracking"]
     if "fps" not in tracking:
         print(f"  not tracked: {tracking['off']}")

@@ -72,6 +72,7 @@ class PersonOutcome:
     nearest: np.ndarray | None = None  # (4,) the kept detection of best IoU, for near misses
     nearest_found_another: bool = False  # that detection is another person's match
     edge_px: float | None = None  # the box's distance to the nearest frame edge (None: the frame's size unknown)
+    identity: int | None = None  # the ground truth's id for the person (None: not given)
 
     @property
     def height(self) -> float:
@@ -93,6 +94,8 @@ class PersonOutcome:
                   "best_iou": round(self.best_iou, 3), "grouped": self.grouped, "region": self.region}
         if self.edge_px is not None:
             result["edge_px"] = round(self.edge_px, 1)
+        if self.identity is not None:
+            result["identity"] = self.identity
         error = self.box_error()
         if error is not None:
             result.update({key: round(value, 3) for key, value in error.items()},
@@ -284,17 +287,23 @@ def _false_positive_kind(detection: np.ndarray, truth: np.ndarray, overlaps: np.
 def analyse_misses(images: Sequence[ImageResult], frames: Sequence[int],
                    region_of: Callable[[np.ndarray], list[str | None]] | None = None,
                    annotated_area: AnnotatedArea | None = None,
-                   frame_size: tuple[int, int] | None = None) -> MissAnalysis | None:
+                   frame_size: tuple[int, int] | None = None,
+                   identities: Sequence[np.ndarray] | None = None) -> MissAnalysis | None:
     """The operating point of ``images`` (one per frame number in ``frames``), every person and false positive
     sorted by kind. ``region_of`` maps foot points (N, 2) to region names (None: outside every region);
     ``annotated_area``: where the ground truth annotates people (None: everywhere); ``frame_size`` (width, height):
-    the frames', for recall by the frame's edge (None: not broken down). None when there are no detections."""
+    the frames', for recall by the frame's edge (None: not broken down); ``identities``: per image, the ground
+    truth's person ids in the order of its boxes, to follow people over the frames (:mod:`vc.evaluation.arrivals`).
+    None when there are no detections."""
     point = operating_point(images)
     if point is None:
         return None
     people: list[PersonOutcome] = []
     false_positives: list[FalsePositive] = []
-    for image, frame, keep, matched_truth in zip(images, frames, point.kept, point.matches, strict=True):
+    if identities is None:
+        identities = [None] * len(images)
+    for image, frame, keep, matched_truth, ids in zip(images, frames, point.kept, point.matches, identities,
+                                                      strict=True):
         boxes, scores = image.boxes[keep], image.scores[keep]
         truth = np.asarray(image.truth_boxes, np.float64).reshape(-1, 4)
         matched_detections = set(matched_truth.values())
@@ -318,7 +327,7 @@ def analyse_misses(images: Sequence[ImageResult], frames: Sequence[int],
             else:
                 outcome, nearest, another = "missed", None, False
             people.append(PersonOutcome(int(frame), box, outcome, best_iou, bool(in_group[index]), regions[index],
-                                        nearest, another, edges[index]))
+                                        nearest, another, edges[index], None if ids is None else int(ids[index])))
         for detection, (box, score) in enumerate(zip(boxes, scores, strict=True)):
             if detection in matched_detections:
                 continue

@@ -13,7 +13,8 @@ where a detection of someone the annotation leaves out is not counted against it
 stays the headline.
 
 Writes into ``output`` (complete or not at all): ``metrics.json`` (AP50, milliseconds per frame, for the bundle
-its operating point and recall by person height, group and region, and the scored frames per scene fitness state,
+its operating point and recall by person height, group and region, how soon the people coming into view are found
+(:mod:`vc.evaluation.arrivals`), and the scored frames per scene fitness state,
 :mod:`vc.deploy.fitness`), ``precision_recall.png``,
 ``contact_sheet.png`` (frames with the bundle's people in colour and the ground truth in white),
 ``detections.jsonl``, ``pose_agreement.png`` (with an external pose model) and the bundle's miss analysis
@@ -38,6 +39,8 @@ from vc.deploy.tracking import Tracker, TrackingConfig, tracking_rate
 from vc.errors import InputError
 from vc.evaluation.agreement import AGREEMENT_HEAD_SIZES, REFERENCE_CONFIDENCE, PoseAgreement, pose_agreement
 from vc.evaluation.annotated_area import AnnotatedArea
+from vc.evaluation.arrivals import arrivals
+from vc.evaluation.arrivals import summarise as summarise_arrivals
 from vc.evaluation.baselines import Detections, HogPeopleDetector, YoloPoseOnnx
 from vc.evaluation.draw import contact_sheet, draw_errors, draw_people
 from vc.evaluation.metrics import Evaluation, ImageResult, evaluate
@@ -152,13 +155,12 @@ def _detections(people: list[Person]) -> Detections:
                       np.array([p.keypoints for p in people]).reshape(-1, 17, 3))
 
 
-def _track_accuracy(images: list[ImageResult], people_by_frame: dict[int, list[Person]], ground_truth: Path,
-                    score_threshold: float) -> TrackAccuracy:
+def _track_accuracy(images: list[ImageResult], people_by_frame: dict[int, list[Person]],
+                    identities: list[np.ndarray], score_threshold: float) -> TrackAccuracy:
     """The tracks' CLEAR MOT and IDF1 at the operating point (:mod:`vc.evaluation.tracks`)."""
-    ids = read_mot_ids(ground_truth)
-    return track_accuracy([FrameTracks(image.truth_boxes, ids.get(number, np.zeros(0, int)), image.boxes,
-                                       image.scores, np.array([person.track for person in people], int))
-                           for image, (number, people) in zip(images, people_by_frame.items(), strict=True)],
+    return track_accuracy([FrameTracks(image.truth_boxes, ids, image.boxes, image.scores,
+                                       np.array([person.track for person in people], int))
+                           for image, ids, people in zip(images, identities, people_by_frame.values(), strict=True)],
                           score_threshold)
 
 
@@ -237,15 +239,18 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
     evaluations = {name: evaluate(record.images) for name, record in records.items()}
     annotated_area = AnnotatedArea.of(truth)
     areas = {entry.name: entry.owned_image_area for entry in bundle.regions}
+    ids = read_mot_ids(request.ground_truth)
+    identities = [ids.get(number, np.zeros(0, int)) for number in people_by_frame]
     misses = analyse_misses(records[OURS].images, list(people_by_frame), region_lookup(areas), annotated_area,
-                            bundle.frame_size)
+                            bundle.frame_size, identities)
     agreements = _pose_agreements(records, list(others))
     tracking = ({"fps": rate, "config": asdict(request.tracking)} if tracker else
                 {"off": "--no-tracking" if request.tracking is None else
                  "the frames' times are unknown (a folder of frames: give --fps)"})
     if tracker and misses is not None:
-        tracking["accuracy"] = _track_accuracy(records[OURS].images, people_by_frame, request.ground_truth,
+        tracking["accuracy"] = _track_accuracy(records[OURS].images, people_by_frame, identities,
                                                misses.score_threshold).to_dict()
+    followed = arrivals(misses.people, list(people_by_frame)) if misses is not None else []
     metrics = {
         "bundle": str(request.bundle), "scene": bundle.manifest["scene"], "video": str(request.video),
         "ground_truth": str(request.ground_truth), "frames": {"first": frames.first, "last": frames.last,
@@ -256,6 +261,8 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
         "detectors": {name: record.summary(evaluations[name], annotated_area.evaluate_inside(record.images))
                       for name, record in records.items()},
         "operating_point": misses.summary() if misses is not None else {},
+        "arrivals": {"summary": summarise_arrivals(followed, rate),
+                     "people": [arrival.to_dict() for arrival in followed]},
         "fitness": fitness,
         **({"pose_agreement": {"reference": next(iter(agreements)), "reference_confidence": REFERENCE_CONFIDENCE,
                                "within_head_sizes": AGREEMENT_HEAD_SIZES,
