@@ -9,6 +9,7 @@ import pytest
 from vc.evaluation.arrivals import APPEARING_INSIDE, WALKING_IN, arrivals, summarise
 from vc.evaluation.metrics import ImageResult
 from vc.evaluation.misses import analyse_misses
+from vc.evaluation.plots import plot_miss_analysis
 
 FRAME_SIZE = (640, 480)
 STAYING = [300, 100, 320, 160]  # there from the first frame, always found
@@ -27,14 +28,18 @@ def _frame(people: list[tuple[int, list[float], bool]]) -> tuple[ImageResult, np
 
 
 @pytest.fixture(scope="module")
-def followed():
+def misses():
     frames = {1: [(1, STAYING, True)],
               2: [(1, STAYING, True), (2, WALKER_CUT, False)],
               3: [(1, STAYING, True), (2, WALKER_CUT, False), (3, APPEARING, True), (4, UNSEEN, False)],
               4: [(1, STAYING, True), (2, WALKER_WHOLE, True), (3, APPEARING, True), (4, UNSEEN, False)]}
     images, identities = zip(*(_frame(people) for people in frames.values()), strict=True)
-    misses = analyse_misses(list(images), list(frames), frame_size=FRAME_SIZE, identities=list(identities))
-    return arrivals(misses.people, list(frames))
+    return analyse_misses(list(images), list(frames), frame_size=FRAME_SIZE, identities=list(identities))
+
+
+@pytest.fixture(scope="module")
+def followed(misses):
+    return arrivals(misses.people, [1, 2, 3, 4])
 
 
 def test_newcomers_are_followed_from_their_first_frame_to_the_frame_they_are_found(followed):
@@ -55,6 +60,11 @@ def test_summary_counts_each_kind_and_gives_seconds_given_the_frame_rate(followe
     # Two frames at 1 frame/s are over the second: found, but not promptly.
     assert summarise(followed, fps=1.0)[WALKING_IN]["found_within"]["people"] == 0
     assert "median_delay_s" not in summarise(followed, fps=None)[WALKING_IN]
+
+
+def test_the_miss_figure_draws_the_arrivals(misses, followed, tmp_path):
+    plot_miss_analysis(misses, tmp_path / "misses.png", "test", summarise(followed, fps=10.0))
+    assert (tmp_path / "misses.png").stat().st_size > 10_000
 
 
 def test_people_without_identities_are_not_followed():

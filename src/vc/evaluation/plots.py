@@ -100,9 +100,11 @@ def plot_lighting_comparison(background: np.ndarray, rerender: np.ndarray, log_e
     _save(figure, destination)
 
 
-def plot_miss_analysis(analysis: MissAnalysis, destination: Path, title: str) -> None:
+def plot_miss_analysis(analysis: MissAnalysis, destination: Path, title: str, arrivals: dict | None = None) -> None:
     """The operating point's errors (:mod:`vc.evaluation.misses`): outcomes of people apart and in groups, recall by
-    height and region, the near misses' box errors, and the false positives by kind."""
+    height, region and the frame's edge and, given ``arrivals`` (:func:`vc.evaluation.arrivals.summarise`), the share
+    of the people coming into view found in their first frame, the near misses' box errors, and the false positives
+    by kind."""
     figure, axes = plt.subplots(2, 2, figsize=(11, 8))
     (outcomes_axis, recall_axis), (near_axis, false_axis) = axes
     colours = {"found": "tab:green", "near miss": "tab:orange", "missed": "tab:red"}
@@ -122,16 +124,20 @@ def plot_miss_analysis(analysis: MissAnalysis, destination: Path, title: str) ->
 
     rates = {**{f"height {k}": v for k, v in analysis.recall_by_height().items()},
              **{f"region {k}": v for k, v in analysis.recall_by_region().items()},
-             **{f"edge: {k}": v for k, v in analysis.recall_by_edge().items()}}
+             **{f"edge: {k}": v for k, v in analysis.recall_by_edge().items()},
+             **{f"arriving: {k.split(' at ')[0]}": {"recall": v["found_in_first_frame"] / v["people"],
+                                                   "people": v["people"]}
+                for k, v in (arrivals or {}).items() if v["people"]}}
     labels = list(rates)
     values = [rates[label]["recall"] or 0.0 for label in labels]
-    colours = {"height": "tab:blue", "region": "tab:purple", "edge:": "tab:green"}
+    colours = {"height": "tab:blue", "region": "tab:purple", "edge:": "tab:green", "arriving:": "tab:olive"}
     bars = recall_axis.barh(labels, values, color=[colours[label.split(" ")[0]] for label in labels])
     for bar, label in zip(bars, labels, strict=True):
         recall_axis.annotate(f" {rates[label]['recall']:.2f} of {rates[label]['people']}",
                              (bar.get_width(), bar.get_y() + bar.get_height() / 2), va="center", fontsize=8)
     recall_axis.invert_yaxis()
-    recall_axis.set(xlim=(0, 1.25), xlabel="recall", title="recall by person height, region and the frame's edge")
+    recall_axis.set(xlim=(0, 1.25), xlabel="recall",
+                    title="recall by height, region, the frame's edge;\narrivals found in their first frame")
 
     near = [person for person in analysis.people if person.outcome == "near miss"]
     errors = [person.box_error() for person in near]
@@ -149,6 +155,7 @@ def plot_miss_analysis(analysis: MissAnalysis, destination: Path, title: str) ->
 
     kinds = analysis.false_positive_kinds()
     false_axis.bar(list(kinds), list(kinds.values()), color="tab:red")
+    plt.setp(false_axis.get_xticklabels(), rotation=25, ha="right")
     false_axis.set(ylabel="detections", title=f"false positives by kind: {len(analysis.false_positives)}")
     figure.suptitle(f"{title} — operating point: score >= {analysis.score_threshold:.2f}, precision "
                     f"{analysis.precision:.3f}, recall {analysis.recall:.3f}", fontsize=10)

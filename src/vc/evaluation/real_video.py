@@ -165,11 +165,12 @@ def _track_accuracy(images: list[ImageResult], people_by_frame: dict[int, list[P
 
 
 def _write_miss_analysis(folder: Path, misses: MissAnalysis, video: Path, frames: FrameRange,
-                         people_by_frame: dict[int, list[Person]], title: str, annotated_area: AnnotatedArea) -> None:
-    """``misses.json``, ``misses.png`` and ``worst_frames.png`` (the frames of most errors, read again, with the
-    annotated area outlined)."""
+                         people_by_frame: dict[int, list[Person]], title: str, annotated_area: AnnotatedArea,
+                         arrivals: dict) -> None:
+    """``misses.json``, ``misses.png`` (with the ``arrivals`` summary) and ``worst_frames.png`` (the frames of most
+    errors, read again, with the annotated area outlined)."""
     write_json(folder / "misses.json", misses.to_dict())
-    plot_miss_analysis(misses, folder / "misses.png", title)
+    plot_miss_analysis(misses, folder / "misses.png", title, arrivals)
     worst = set(misses.worst_frames(SHEET_FRAMES))
     if not worst:
         return
@@ -283,5 +284,6 @@ def evaluate_bundle(request: EvaluationRequest, show_progress: bool = True) -> E
                                 f"{reference}'s confident ones (conf >= {REFERENCE_CONFIDENCE})")
         if misses is not None:
             _write_miss_analysis(staging, misses, request.video, frames, people_by_frame,
-                                 f"{metrics['scene']}: {source.count} real frames", annotated_area)
+                                 f"{metrics['scene']}: {source.count} real frames", annotated_area,
+                                 metrics["arrivals"]["summary"])
     return EvaluationReport(metrics, evaluations, misses, agreements, source.count, request.video)
