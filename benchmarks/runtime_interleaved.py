@@ -18,6 +18,7 @@ from __future__ import annotations
 import argparse
 import json
 import time
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -31,25 +32,34 @@ WARM_UP_FRAMES = 3
 
 def interleaved_seconds(bundles: list[Path], frames: list[np.ndarray], threads: int,
                         passes: int) -> np.ndarray:
-    """(len(bundles), passes * len(frames)) seconds: column k is one frame run by every bundle, in an order rotated
-    by one bundle from column to column so that no bundle always runs first after another's frame."""
+    """(len(bundles), passes * len(frames)) seconds of each bundle's runtime, regions in parallel on ``threads``
+    (:func:`timed_in_turn`)."""
     runtimes = [Runtime(bundle, threads=threads, parallel_regions=True) for bundle in bundles]
     try:
-        for runtime in runtimes:
-            for frame in frames[:WARM_UP_FRAMES]:
-                runtime(frame)
-        seconds = np.zeros((len(bundles), passes * len(frames)))
-        for column in range(passes * len(frames)):
-            frame = frames[column % len(frames)]
-            for step in range(len(bundles)):
-                which = (column + step) % len(bundles)
-                started = time.perf_counter()
-                runtimes[which](frame)
-                seconds[which, column] = time.perf_counter() - started
-        return seconds
+        return timed_in_turn(runtimes, frames, passes)
     finally:
         for runtime in runtimes:
             runtime.close()
+
+
+def timed_in_turn(runtimes: Sequence[Callable[[np.ndarray], object]], frames: list[np.ndarray],
+                  passes: int) -> np.ndarray:
+    """(len(runtimes), passes * len(frames)) seconds of runtimes already made (any callable on a frame: a bundle's
+    runtime with settings of its own, another decoder say), each warmed up on the first frames: column k is one
+    frame run by every runtime, in an order rotated by one from column to column so that no runtime always runs
+    first after another's frame."""
+    for runtime in runtimes:
+        for frame in frames[:WARM_UP_FRAMES]:
+            runtime(frame)
+    seconds = np.zeros((len(runtimes), passes * len(frames)))
+    for column in range(passes * len(frames)):
+        frame = frames[column % len(frames)]
+        for step in range(len(runtimes)):
+            which = (column + step) % len(runtimes)
+            started = time.perf_counter()
+            runtimes[which](frame)
+            seconds[which, column] = time.perf_counter() - started
+    return seconds
 
 
 def summary(labels: list[str], seconds: np.ndarray) -> dict:

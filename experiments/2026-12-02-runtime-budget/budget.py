@@ -16,12 +16,11 @@ from __future__ import annotations
 import json
 import shutil
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 
-from benchmarks.runtime_interleaved import WARM_UP_FRAMES
+from benchmarks.runtime_interleaved import timed_in_turn
 from vc.deploy.frames import FrameRange, FrameSource
 from vc.deploy.runtime import Runtime
 
@@ -47,17 +46,7 @@ def main() -> None:
             "as shipped (C decoder)": (bundle, "c")}
     frames = [frame.image for frame in FrameSource(video, frames_range)]
     runtimes = [Runtime(path, threads=2, parallel_regions=True, decoder=decoder) for path, decoder in arms.values()]
-    for runtime in runtimes:
-        for frame in frames[:WARM_UP_FRAMES]:
-            runtime(frame)
-    seconds = np.zeros((len(runtimes), passes * len(frames)))
-    for column in range(passes * len(frames)):
-        frame = frames[column % len(frames)]
-        for step in range(len(runtimes)):
-            arm = (column + step) % len(runtimes)
-            start = time.perf_counter()
-            runtimes[arm](frame)
-            seconds[arm, column] = time.perf_counter() - start
+    seconds = timed_in_turn(runtimes, frames, passes)
     for runtime in runtimes:
         runtime.close()
     reference, rows = seconds[0], dict(zip(arms, seconds, strict=True))
