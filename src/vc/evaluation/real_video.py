@@ -166,11 +166,11 @@ def _track_accuracy(images: list[ImageResult], people_by_frame: dict[int, list[P
 
 def _write_miss_analysis(folder: Path, misses: MissAnalysis, video: Path, frames: FrameRange,
                          people_by_frame: dict[int, list[Person]], title: str, annotated_area: AnnotatedArea,
-                         arrivals: dict) -> None:
-    """``misses.json``, ``misses.png`` (with the ``arrivals`` summary) and ``worst_frames.png`` (the frames of most
+                         arrivals_summary: dict) -> None:
+    """``misses.json``, ``misses.png`` (with the ``arrivals_summary``) and ``worst_frames.png`` (the frames of most
     errors, read again, with the annotated area outlined)."""
     write_json(folder / "misses.json", misses.to_dict())
-    plot_miss_analysis(misses, folder / "misses.png", title, arrivals)
+    plot_miss_analysis(misses, folder / "misses.png", title, arrivals_summary)
     worst = set(misses.worst_frames(SHEET_FRAMES))
     if not worst:
         return
