@@ -72,7 +72,7 @@ class PersonOutcome:
     nearest: np.ndarray | None = None  # (4,) the kept detection of best IoU, for near misses
     nearest_found_another: bool = False  # that detection is another person's match
     edge_px: float | None = None  # the box's distance to the nearest frame edge (None: the frame's size unknown)
-    identity: int | None = None  # the ground truth's id for the person (None: not given)
+    identity: int | None = None  # the ground truth's id for the person (None: not given, or MOT's -1, unknown)
 
     @property
     def height(self) -> float:
@@ -327,7 +327,8 @@ def analyse_misses(images: Sequence[ImageResult], frames: Sequence[int],
             else:
                 outcome, nearest, another = "missed", None, False
             people.append(PersonOutcome(int(frame), box, outcome, best_iou, bool(in_group[index]), regions[index],
-                                        nearest, another, edges[index], None if ids is None else int(ids[index])))
+                                        nearest, another, edges[index],
+                                        None if ids is None or ids[index] < 0 else int(ids[index])))
         for detection, (box, score) in enumerate(zip(boxes, scores, strict=True)):
             if detection in matched_detections:
                 continue
