@@ -277,7 +277,9 @@ def test_a_run_keeps_its_keypoint_model_only_for_the_renders_and_seed_it_was_tra
     assert shipped.get_outputs()[0].name == MAPS_OUTPUT
     assert stage.train_crop_pose_model(data, run, seed=0, show_progress=False) == first  # resumed: kept
     stage.train_crop_pose_model(data, run, seed=1, show_progress=False)  # another seed: trained again
-    assert trained_calls == [0, 1]
+    monkeypatch.setattr(stage, "SAMPLES_SEEN", stage.SAMPLES_SEEN // 2)
+    stage.train_crop_pose_model(data, run, seed=1, show_progress=False)  # another schedule: trained again
+    assert trained_calls == [0, 1, 1]
     assert json.loads((run / CROP_POSE_REPORT).read_text())["trained_on"]["seed"] == 1
 
 

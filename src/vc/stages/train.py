@@ -20,6 +20,7 @@ from vc.model.crop_pose import (
     CROP_POSE_REPORT,
     MIN_CROP_POSE_CROPS,
     MIN_TALL_SHARE,
+    SAMPLES_SEEN,
     TRAINED_HEIGHT_SHARE,
     frame_heights,
     train_crop_pose,
@@ -141,7 +142,8 @@ def train_crop_pose_model(dataset: Path, run: Path, seed: int, wanted: bool | Li
               else crop_pose_not_called_for(dataset) if wanted == "auto" else None)
     manifest = read_manifest(dataset)
     trained_on = {"scene_hash": manifest["scene_hash"], "dataset_settings": manifest.get("settings"), "seed": seed,
-                  "precision": "int8 where it holds"}  # one exported fp32 alone is trained again
+                  "precision": "int8 where it holds",  # one exported fp32 alone is trained again
+                  "crops_seen": SAMPLES_SEEN}  # one trained on a shorter schedule too
     if reason is None and model.is_file() and report.is_file():
         earlier = json.loads(report.read_text())
         if earlier.get("trained_on") == trained_on:
