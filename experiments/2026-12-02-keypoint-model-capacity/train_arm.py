@@ -22,6 +22,15 @@ from vc.model.crop_precision import keypoints_at_int8
 from vc.model.export import export_crop_pose, with_crop_pose, write_bundle
 
 
+def bundle_with(control: Path, run: Path, adding, out: Path) -> None:
+    """``control``'s bundle with ``run``'s model put in by ``adding`` (``vc.model.export.with_crop_pose`` or
+    ``with_facing``), written to ``out``."""
+    manifest = json.loads((control / MANIFEST).read_text())
+    files = {str(path.relative_to(control)): path.read_bytes() for path in control.rglob("*")
+             if path.is_file() and path.name != MANIFEST}
+    write_bundle(*adding(manifest, files, run), out, as_zip=False)
+
+
 def main() -> None:
     renders, seed, control = Path(sys.argv[1]), int(sys.argv[2]), Path(sys.argv[3])
     samples, widths, work = int(sys.argv[4]), tuple(int(w) for w in sys.argv[5].split(",")), Path(sys.argv[6])
@@ -34,11 +43,7 @@ def main() -> None:
     report = {**result.to_dict(), "precision": chosen.precision,
               "held_out_pckh_by_precision": {k: None if v is None else round(v, 4) for k, v in chosen.measured.items()}}
     (run / CROP_POSE_REPORT).write_text(json.dumps(report, indent=1))
-    manifest = json.loads((control / MANIFEST).read_text())
-    files = {str(path.relative_to(control)): path.read_bytes() for path in control.rglob("*")
-             if path.is_file() and path.name != MANIFEST}
-    manifest, files = with_crop_pose(manifest, files, run)
-    write_bundle(manifest, files, out, as_zip=False)
+    bundle_with(control, run, with_crop_pose, out)
     print(json.dumps({"renders": str(renders), "seed": seed, "samples": samples, "widths": list(widths),
                       "work": str(work), **{k: v for k, v in report.items() if k != "held_out_pckh_per_keypoint"},
                       "held_out_pckh_per_keypoint": result.held_out_pckh_per_keypoint}), flush=True)
