@@ -95,6 +95,29 @@ def test_training_measures_the_model_on_the_held_out_crops_and_the_same_seed_giv
         assert torch.equal(value, again.net.state_dict()[name]), name
 
 
+def test_training_in_bf16_channels_last_is_seeded_too_and_exports_a_model_that_reads_as_it_does():
+    """The region networks' compute where the CPU has bf16 instructions (0006), which the keypoint model was measured
+    in (0052): the same seed gives the same weights, and the exported graph (fp32, NCHW) reads the crops as the
+    channels-last network does."""
+    def bf16(seed):
+        return train_crop_pose(_crops(128, 0), _crops(32, 1), seed=seed, samples=128, bf16_autocast=True,
+                               channels_last=True, show_progress=False)
+
+    first, again = bf16(3), bf16(3)
+    for name, value in first.net.state_dict().items():
+        assert torch.equal(value, again.net.state_dict()[name]), name
+    assert 0.0 <= first.held_out_pckh <= 1.0
+    crops = _crops(3, 7)
+    frame, boxes = pasted(crops.crops, (110, 200), 4, 60)
+    reader = CropPoseReader(export_crop_pose(first.net))
+    part, shifted = frame_part(frame, crop_rois(boxes))
+    maps = reader.session.run([MAPS_OUTPUT], {FRAME_INPUT: part, ROIS_INPUT: shifted})[0]
+    first.net.eval()
+    with torch.no_grad():
+        expected = first.net(torch.from_numpy(crops.crops).permute(0, 3, 1, 2).float() / 255.0).numpy()
+    assert np.corrcoef(maps.ravel(), expected.ravel())[0, 1] > 0.95
+
+
 def test_a_mirror_moves_each_keypoint_across_and_exchanges_each_pairs_image_order():
     crops = _crops(2, 5)
     flipped_crops, flipped = mirrored(crops.crops, crops.keypoints)
