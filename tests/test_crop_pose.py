@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import shutil
+from dataclasses import dataclass
 
 import numpy as np
 import onnx
@@ -107,15 +108,8 @@ def test_training_in_bf16_channels_last_is_seeded_too_and_exports_a_model_that_r
     for name, value in first.net.state_dict().items():
         assert torch.equal(value, again.net.state_dict()[name]), name
     assert 0.0 <= first.held_out_pckh <= 1.0
-    crops = _crops(3, 7)
-    frame, boxes = pasted(crops.crops, (110, 200), 4, 60)
-    reader = CropPoseReader(export_crop_pose(first.net))
-    part, shifted = frame_part(frame, crop_rois(boxes))
-    maps = reader.session.run([MAPS_OUTPUT], {FRAME_INPUT: part, ROIS_INPUT: shifted})[0]
-    first.net.eval()
-    with torch.no_grad():
-        expected = first.net(torch.from_numpy(crops.crops).permute(0, 3, 1, 2).float() / 255.0).numpy()
-    assert np.corrcoef(maps.ravel(), expected.ravel())[0, 1] > 0.95
+    reading = _exported_and_network_maps(first.net)
+    assert np.corrcoef(reading.maps.ravel(), reading.expected.ravel())[0, 1] > 0.95
 
 
 def test_a_mirror_moves_each_keypoint_across_and_exchanges_each_pairs_image_order():
@@ -127,15 +121,36 @@ def test_a_mirror_moves_each_keypoint_across_and_exchanges_each_pairs_image_orde
     assert flipped[0, 0, 0] == pytest.approx(CROP_SIZE[0] - 1 - crops.keypoints[0, 0, 0])  # the nose stays itself
 
 
-def test_the_exported_model_reads_the_frame_as_the_network_reads_its_crops(trained):
+@dataclass
+class ExportedReading:
+    """Three crops pasted in a frame, read by a network's exported model (``maps``) and by the network itself
+    (``expected``)."""
+
+    reader: CropPoseReader
+    frame: np.ndarray
+    boxes: np.ndarray
+    part: np.ndarray
+    shifted: np.ndarray
+    maps: np.ndarray
+    expected: np.ndarray
+
+
+def _exported_and_network_maps(net: CropPoseNet) -> ExportedReading:
     crops = _crops(3, 7)
     frame, boxes = pasted(crops.crops, (110, 200), 4, 60)
-    reader = CropPoseReader(export_crop_pose(trained.net))
+    reader = CropPoseReader(export_crop_pose(net))
     part, shifted = frame_part(frame, crop_rois(boxes))
     maps = reader.session.run([MAPS_OUTPUT], {FRAME_INPUT: part, ROIS_INPUT: shifted})[0]
-    trained.net.eval()
+    net.eval()
     with torch.no_grad():
-        expected = trained.net(torch.from_numpy(crops.crops).permute(0, 3, 1, 2).float() / 255.0).numpy()
+        expected = net(torch.from_numpy(crops.crops).permute(0, 3, 1, 2).float() / 255.0).numpy()
+    return ExportedReading(reader, frame, boxes, part, shifted, maps, expected)
+
+
+def test_the_exported_model_reads_the_frame_as_the_network_reads_its_crops(trained):
+    reading = _exported_and_network_maps(trained.net)
+    reader, frame, boxes, part, shifted = reading.reader, reading.frame, reading.boxes, reading.part, reading.shifted
+    maps, expected = reading.maps, reading.expected
     assert maps.shape == expected.shape == (3, 17, CROP_SIZE[1] // MAP_STRIDE, CROP_SIZE[0] // MAP_STRIDE)
     assert np.corrcoef(maps.ravel(), expected.ravel())[0, 1] > 0.95  # 2 x 2 samples a pixel blur a little
     seen = reader.session.run([MAPS_OUTPUT], dict(zip((FRAME_INPUT, ROIS_INPUT), mirrored_input(part, shifted),
