@@ -12,7 +12,7 @@ import sys
 
 import numpy as np
 
-TORSO, HEAD = (5, 6, 11, 12), (0, 1, 2, 3, 4)
+TORSO = (5, 6, 11, 12)
 SURE = 0.3
 
 

@@ -13,6 +13,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+from analyse import matches
 
 from vc.deploy.boxes import box_iou
 from vc.deploy.frames import FrameRange, FrameSource
@@ -22,16 +23,6 @@ from vc.evaluation.metrics import grouped
 from vc.evaluation.mot import read_mot_boxes
 
 VIDEO, GT = "../shared/data/tud_stadtmitte/frames", "../shared/data/tud_stadtmitte/gt_world.txt"
-
-
-def greedy(ious: np.ndarray, scores: np.ndarray) -> np.ndarray:
-    """Whether each truth (columns) is matched at IoU 0.5, detections taken best score first."""
-    taken = np.zeros(ious.shape[1], bool)
-    for d in np.argsort(-scores):
-        open_ = np.where(taken, -1.0, ious[d])
-        if open_.size and open_.max() >= 0.5:
-            taken[int(open_.argmax())] = True
-    return taken
 
 
 def hidden_share(truth: np.ndarray, index: int) -> float:
@@ -58,7 +49,7 @@ def main() -> None:
             weak = [p for p in people if p.weak]
             boxes = np.array([p.box for p in strong]).reshape(-1, 4)
             ious = box_iou(boxes, truth) if len(boxes) else np.zeros((0, len(truth)))
-            found = greedy(ious, np.array([p.score for p in strong]))
+            _, found = matches(ious, np.array([p.score for p in strong]))
             weak_ious = (box_iou(np.array([p.box for p in weak]), truth) if weak and len(truth)
                          else np.zeros((0, len(truth))))
             in_group = grouped(truth) if len(truth) else np.zeros(0, bool)

@@ -2,7 +2,7 @@
 experiment, issue 57 item 2): how hidden they are, whether a weak peak stands for them, and whether the box that
 nearly matches them (IoU 0.3-0.5) is a found neighbour's or a box that found nobody (a merge, or misplaced).
 
-    cd experiments/2026-12-03-second-look && PYTHONPATH=../../src python summarise.py results SEED > results/summary.txt
+    PYTHONPATH=src python experiments/2026-12-03-second-look/summarise.py RESULTS SEED > RESULTS/summary.txt
 """
 
 from __future__ import annotations
