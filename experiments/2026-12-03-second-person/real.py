@@ -1,14 +1,15 @@
 """Real frames: a bundle whose networks read the person behind each peak (``second_person.py``), on
 TUD-Stadtmitte's halves (frozen experiment, issue 57 item 2).
 
-    PYTHONPATH=../.. python real.py export RUN BUNDLE
+    PYTHONPATH=../.. python real.py export RUN BUNDLE SCENE.yaml
     PYTHONPATH=../.. python real.py measure ARM BUNDLE -o results [--threshold T] [--halves choosing confirming]
 
-``export``: ``vc-export RUN -o BUNDLE --precision int8 --eval-samples 0`` with the behind layout known (its channels
-named ``behind_score``, ``behind_offset_x``, ``behind_offset_y``). ``measure``: as
+``export``: ``vc-export RUN -o BUNDLE --scene SCENE.yaml --precision int8 --eval-samples 0`` with the behind layout
+known (its channels named ``behind_score``, ``behind_offset_x``, ``behind_offset_y``). ``measure``: as
 ``../2026-12-01-tud-denser-crowd/measure.py`` measures one bundle (seed 0), decoded by the numpy decoder with the
-people behind added at score ``T`` (none without ``--threshold``); writes ``results/ARM/seed0_HALF.json``, a finished
-file is not run again. Its control is ``../2026-12-01-tud-denser-crowd/results/crowd_5/seed0_*``.
+people behind added at score ``T`` (none without ``--threshold``), the others as decoded without them
+(``second_person.FRONT_KEPT``); writes ``results/ARM/seed0_HALF.json``, a finished file is not run again. Its control
+is ``results/today/``: the compile's bundle, decoded the same way (``vc-export`` of its run gives the same models).
 """
 
 from __future__ import annotations
@@ -42,7 +43,9 @@ def _channel_names(channels: int) -> tuple[str, ...]:
 
 
 def install() -> None:
+    """The behind layout known to export, bundle and runtime; the numpy decoder, the people in front kept."""
     second_person.install()
+    second_person.FRONT_KEPT[0] = True
     bundle_module.LAYOUTS = second_person.decoding.LAYOUTS
     export_module.channel_names = _channel_names
     runtime.decode = second_person.decode_behind
@@ -52,15 +55,16 @@ def install() -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("what", choices=("export", "measure"))
-    parser.add_argument("paths", nargs="+", help="export: RUN BUNDLE; measure: ARM BUNDLE")
+    parser.add_argument("paths", nargs="+", help="export: RUN BUNDLE SCENE; measure: ARM BUNDLE")
     parser.add_argument("-o", "--out", type=Path)
     parser.add_argument("--threshold", type=float)
     parser.add_argument("--halves", nargs="*", default=["choosing", "confirming"])
     args = parser.parse_args()
     install()
     if args.what == "export":
-        run, bundle = args.paths
-        sys.exit(export_cli.main([run, "-o", bundle, "--precision", "int8", "--eval-samples", "0", "--quiet"]))
+        run, bundle, scene = args.paths
+        sys.exit(export_cli.main([run, "-o", bundle, "--scene", scene, "--precision", "int8", "--eval-samples", "0",
+                                  "--quiet"]))
     arm, bundle = args.paths
     second_person.THRESHOLD[0] = args.threshold
     for half in args.halves:
