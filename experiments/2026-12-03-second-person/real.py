@@ -16,9 +16,7 @@ from __future__ import annotations
 
 import argparse
 import importlib.util
-import json
 import sys
-import tempfile
 from pathlib import Path
 
 import second_person
@@ -67,17 +65,8 @@ def main() -> None:
                                   "--quiet"]))
     arm, bundle = args.paths
     second_person.THRESHOLD[0] = args.threshold
-    for half in args.halves:
-        path = args.out / arm / f"seed0_{half}.json"
-        if path.exists():
-            continue
-        with tempfile.TemporaryDirectory() as scratch:
-            result = crowd_measure.measure(Path(bundle), crowd_measure.TUD["halves"][half], Path(scratch))
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(json.dumps(result, indent=1) + "\n")
-        print(f"{arm} seed 0 {half}: tracked {result['ap50_tracked']:.4f} each frame "
-              f"{result['ap50_each_frame']:.4f} groups {result['recall_by_group']}", flush=True)
-
+    sys.argv = [sys.argv[0], arm, bundle, "-o", str(args.out), "--halves", *args.halves]
+    crowd_measure.main()  # one bundle: results/ARM/seed0_HALF.json
 
 if __name__ == "__main__":
     main()

@@ -4,6 +4,7 @@ item 2).
     PYTHONPATH=../.. python second_person.py pairs RUN RENDERS REGION
     PYTHONPATH=../.. python second_person.py train RUN RENDERS REGION -o OUT
     PYTHONPATH=../.. python second_person.py measure RUN RENDERS REGION [--checkpoint PT] [--threshold T ...]
+    PYTHONPATH=../.. python second_person.py added RUN RENDERS REGION --checkpoint PT [--threshold T]
 
 The people today's far-band network misses in groups stand behind a found person, within 0.15 of their height of
 that person's centre, under one peak (decisions 0033, 0034; ``../2026-12-03-second-look/``). CrowdDet (Chu et al.,
@@ -24,6 +25,10 @@ the centre offsets'). Writes OUT/checkpoints/REGION.pt.
 ``measure``: the held-out renders decoded as the deployment decoder does, and with the people behind added: for each
 strong peak whose score map reads at least T there, a person at the offset's end unless a peak already lies within
 :data:`SAME_PERSON` of their expected height of it. AP50, people overlapping another found, detections.
+``added``: the people the behind maps add on the held-out renders (those not among the people decoded without them),
+matched or not, and what the unmatched ones lie on, by their best IoU with an annotated person: >= 0.5 with one
+already found (a second box for them: is anyone behind their front person, found or not?), >= 0.5 with one the
+evaluation ignores, 0.3-0.5 (beside someone) or none.
 """
 
 from __future__ import annotations
@@ -31,6 +36,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import threading
+from collections import Counter
 from pathlib import Path
 
 import numpy as np
@@ -43,9 +49,10 @@ import vc.model.data as data_module
 import vc.model.held_out as held_out
 import vc.model.loss as loss_module
 from vc.calibration.camera import camera_from_dict
+from vc.deploy.decode import DecodeConfig
 from vc.deploy.heatmaps import FINE_CHANNELS, input_to_cells
-from vc.evaluation.metrics import grouped
-from vc.evaluation.renders import MIN_VISIBLE_HEIGHT, asked_for
+from vc.evaluation.metrics import evaluate, grouped
+from vc.evaluation.renders import MIN_VISIBLE_HEIGHT, asked_for, image_result
 from vc.model.codec import expected_height_map
 from vc.model.network import ScenePoseNet
 from vc.model.trainer import RegionTrainer, load_checkpoint
@@ -80,8 +87,9 @@ def _iou(a: np.ndarray, b: np.ndarray) -> float:
     return inter / union if union > 0 else 0.0
 
 
-def behind_of(annotations: list[dict], instances: np.ndarray) -> list[int | None]:
-    """For each annotation, the index of the person behind them (see the module docstring), or None."""
+def behind_of(annotations: list[dict], instances: np.ndarray, seen_below: float = np.inf) -> list[int | None]:
+    """For each annotation, the index of the person behind them (see the module docstring), or None; with
+    ``seen_below``, only people less seen than that count as behind (the others find a peak of their own)."""
     centred = [i for i, a in enumerate(annotations) if a.get("center") is not None]
     seen = {i: np.count_nonzero(instances == annotations[i]["instance_id"])
             / (SILHOUETTE_FILL * max(annotations[i]["amodal_bbox"][2] * annotations[i]["amodal_bbox"][3], 1.0))
@@ -95,7 +103,7 @@ def behind_of(annotations: list[dict], instances: np.ndarray) -> list[int | None
         for other in centred:
             b = annotations[other]
             other_box = _xyxy(b["amodal_bbox"])
-            if (other == front or other_box[3] >= box[3]
+            if (other == front or other_box[3] >= box[3] or seen[other] >= seen_below
                     or b["bbox"][3] < MIN_VISIBLE_HEIGHT * b["amodal_bbox"][3]
                     or _iou(box, other_box) < OVERLAP_IOU
                     or np.hypot(b["center"][0] - a["center"][0], b["center"][1] - a["center"][1])
@@ -279,13 +287,14 @@ def pairs(run: Path, renders: Path, region: str) -> None:
           f"rule; today's network misses {missed}, {missed_behind} of them behind someone")
 
 
-def train(run: Path, renders: Path, region: str, out: Path, offset_loss: str) -> None:
+def train(run: Path, renders: Path, region: str, out: Path, offset_loss: str, seen_below: float) -> None:
     checkpoint = load_checkpoint(run / "checkpoints" / f"{region}.pt")
     data = open_region(renders, region, checkpoint.config.held_out_fraction)
     paired = 0
     for sample in data.train:  # before the loader's workers fork
         _, instances = read_sample(sample)
-        for annotation, behind in zip(sample.annotations, behind_of(sample.annotations, instances), strict=True):
+        for annotation, behind in zip(sample.annotations, behind_of(sample.annotations, instances, seen_below),
+                                      strict=True):
             annotation["behind_center"] = None if behind is None else sample.annotations[behind]["center"]
             paired += behind is not None
     print(f"{paired} people with someone behind them in {len(data.train)} training renders", flush=True)
@@ -317,19 +326,102 @@ def measure(run: Path, renders: Path, region: str, weights: Path | None, thresho
               f"PCKh {summary['pckh']:.4f}", flush=True)
 
 
+def _iou_matrix(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    top_left = np.maximum(a[:, None, :2], b[None, :, :2])
+    bottom_right = np.minimum(a[:, None, 2:], b[None, :, 2:])
+    inter = np.clip(bottom_right - top_left, 0, None).prod(axis=2)
+    area = lambda boxes: (boxes[:, 2] - boxes[:, 0]) * (boxes[:, 3] - boxes[:, 1])  # noqa: E731
+    return inter / (area(a)[:, None] + area(b)[None] - inter)
+
+
+def added(run: Path, renders: Path, region: str, weights: Path, threshold: float) -> None:
+    install()
+    THRESHOLD[0] = threshold
+    checkpoint = load_checkpoint(weights)
+    config: DecodeConfig = checkpoint.config.decode
+    net = ScenePoseNet(checkpoint.config.network)
+    net.load_state_dict(checkpoint.content["model"])
+    net.eval()
+    data = open_region(renders, region, checkpoint.config.held_out_fraction)
+    heights = expected_height_map(camera_from_dict(data.region["camera"]), config.stride,
+                                  load_checkpoint(run / "checkpoints" / f"{region}.pt")
+                                  .content["reference_height_m"])
+    kinds: Counter = Counter()
+    results, added_flags, reaches, behind_lists, fronts = [], [], [], [], []
+    fronts_behind: Counter = Counter()
+    distances: dict[str, list[float]] = {}
+    for sample in data.held_out:
+        image, instances = read_sample(sample)
+        with torch.no_grad():
+            maps = net(torch.from_numpy(image[None]).permute(0, 3, 1, 2).float() / 255.0)["heatmaps"][0].numpy()
+        base = _DECODE(maps[:FINE_CHANNELS], config, heights)
+        people = decode_behind(maps, config, heights)
+        base_centres = [tuple(np.round(person.centre, 3)) for person in base]
+        added_flags.append([tuple(np.round(person.centre, 3)) not in base_centres for person in people])
+        base_xy = np.array([person.centre for person in base]).reshape(-1, 2)
+        behind_lists.append(behind_of(sample.annotations, instances))
+        fronts.append([int(np.argmin(np.hypot(*(base_xy - person.centre).T))) if len(base_xy) else -1
+                       for person in people])
+        reaches.append([float(np.hypot(*(base_xy - person.centre).T).min(initial=np.inf)
+                              / (person.box[3] - person.box[1])) for person in people])
+        results.append(image_result(sample.annotations, instances, people, config.stride))
+    evaluation = evaluate(results)
+    for result, flags, reach, behind, front_of, matches in zip(results, added_flags, reaches, behind_lists, fronts,
+                                                               evaluation.matches, strict=True):
+        matched_truth = {truth: detection for truth, detection in matches}
+        matched_detections = set(matched_truth.values())
+        ious = _iou_matrix(np.asarray(result.boxes).reshape(-1, 4), np.asarray(result.truth_boxes).reshape(-1, 4))
+        for index, added in enumerate(flags):
+            if not added:
+                continue
+            if index in matched_detections:
+                kinds["matched"] += 1
+                distances.setdefault("matched", []).append(reach[index])
+                continue
+            best = int(np.argmax(ious[index])) if ious.shape[1] else -1
+            best_iou = float(ious[index, best]) if best >= 0 else 0.0
+            if best_iou >= 0.5 and result.truth_ignore[best]:
+                kinds["on an ignored person"] += 1
+            elif best_iou >= 0.5:
+                kind = "a second box for a found person" if best in matched_truth else "on a person, not matched"
+                kinds[kind] += 1
+                if kind == "a second box for a found person":
+                    front_truth = next((t for t, d in matches if d == front_of[index]), None)
+                    behind_truth = None if front_truth is None else behind[front_truth]
+                    fronts_behind["its front not matched" if front_truth is None else
+                                  "no one behind its front" if behind_truth is None else
+                                  "the one behind its front found" if behind_truth in matched_truth else
+                                  "the one behind its front not found"] += 1
+                distances.setdefault(kind, []).append(reach[index])
+            elif best_iou >= 0.3:
+                kinds["beside someone (IoU 0.3-0.5)"] += 1
+            else:
+                kinds["on no one"] += 1
+    print(f"{region} threshold {threshold}: {sum(kinds.values())} added; " + ", ".join(
+        f"{kind} {count}" for kind, count in kinds.most_common()))
+    print("  second boxes: " + ", ".join(f"{kind} {count}" for kind, count in fronts_behind.most_common()))
+    for kind, values in distances.items():
+        print(f"  {kind}: nearest peak decoded without them at quartiles "
+              + " / ".join(f"{q:.3f}" for q in np.quantile(values, [0.25, 0.5, 0.75])) + " of their box height")
+
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("what", choices=("pairs", "train", "measure"))
+    parser.add_argument("what", choices=("pairs", "train", "measure", "added"))
     parser.add_argument("run", type=Path)
     parser.add_argument("renders", type=Path)
     parser.add_argument("region")
     parser.add_argument("-o", "--out", type=Path)
-    parser.add_argument("--checkpoint", type=Path, help="measure: weights to read instead of RUN's")
+    parser.add_argument("--checkpoint", type=Path, help="measure, added: weights to read instead of RUN's")
     parser.add_argument("--threshold", type=float, nargs="*", default=[0.2, 0.3, 0.4, 0.5],
                         help="measure: the behind score that adds a person")
     parser.add_argument("--without", action="store_true", help="measure: also decoded without the people behind")
     parser.add_argument("--offset-loss", choices=("weighted", "mean"), default="weighted",
                         help="train: the offsets' L1 averaged under the score's target or over every cell")
+    parser.add_argument("--seen-below", type=float, default=np.inf,
+                        help="train: only people less seen than this (visible pixels over 0.45 of their full box) "
+                             "count as behind")
     parser.add_argument("--front-kept", action="store_true",
                         help="measure: the people decoded without the behind maps stay exactly as they were")
     parser.add_argument("--same-person", type=float, default=SAME_PERSON[0],
@@ -339,8 +431,10 @@ def main() -> None:
     FRONT_KEPT[0] = args.front_kept
     if args.what == "pairs":
         pairs(args.run, args.renders, args.region)
+    elif args.what == "added":
+        added(args.run, args.renders, args.region, args.checkpoint, args.threshold[0])
     elif args.what == "train":
-        train(args.run, args.renders, args.region, args.out, args.offset_loss)
+        train(args.run, args.renders, args.region, args.out, args.offset_loss, args.seen_below)
     else:
         measure(args.run, args.renders, args.region, args.checkpoint,
                 ([None] if args.without else []) + args.threshold)
