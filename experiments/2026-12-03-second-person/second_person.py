@@ -5,6 +5,7 @@ item 2).
     PYTHONPATH=../.. python second_person.py train RUN RENDERS REGION -o OUT
     PYTHONPATH=../.. python second_person.py measure RUN RENDERS REGION [--checkpoint PT] [--threshold T ...]
     PYTHONPATH=../.. python second_person.py added RUN RENDERS REGION --checkpoint PT [--threshold T]
+    PYTHONPATH=../.. python second_person.py score RUN RENDERS REGION --checkpoint PT
 
 The people today's far-band network misses in groups stand behind a found person, within 0.15 of their height of
 that person's centre, under one peak (decisions 0033, 0034; ``../2026-12-03-second-look/``). CrowdDet (Chu et al.,
@@ -406,9 +407,38 @@ def added(run: Path, renders: Path, region: str, weights: Path, threshold: float
 
 
 
+def score(renders: Path, region: str, weights: Path) -> None:
+    """How well the score map, read at each held-out person's centre, tells who has someone behind them (by the
+    rule): the area under its ROC curve and the share read at T = 0.3 / 0.5 of each kind."""
+    install()
+    checkpoint = load_checkpoint(weights)
+    net = ScenePoseNet(checkpoint.config.network)
+    net.load_state_dict(checkpoint.content["model"])
+    net.eval()
+    stride = checkpoint.config.codec.stride
+    data = open_region(renders, region, checkpoint.config.held_out_fraction)
+    readings: dict[bool, list[float]] = {True: [], False: []}
+    for sample in data.held_out:
+        image, instances = read_sample(sample)
+        with torch.no_grad():
+            maps = net(torch.from_numpy(image[None]).permute(0, 3, 1, 2).float() / 255.0)["heatmaps"][0].numpy()
+        for annotation, behind in zip(sample.annotations, behind_of(sample.annotations, instances), strict=True):
+            if not asked_for(annotation, (instances.shape[1], instances.shape[0])):
+                continue
+            column, row = np.clip(np.round(input_to_cells([annotation["center"]], stride)[0]).astype(int), 0,
+                                  [maps.shape[2] - 1, maps.shape[1] - 1])
+            readings[behind is not None].append(float(maps[BEHIND, row, column]))
+    positive, negative = np.array(readings[True]), np.array(readings[False])
+    ranks = np.argsort(np.argsort(np.concatenate([positive, negative]))) + 1.0
+    auc = (ranks[:len(positive)].sum() - len(positive) * (len(positive) + 1) / 2) / (len(positive) * len(negative))
+    print(f"{region} {weights}: {len(positive)} people with someone behind, {len(negative)} without; "
+          f"ROC AUC {auc:.3f}; read >= 0.3: {np.mean(positive >= 0.3):.3f} / {np.mean(negative >= 0.3):.3f}, "
+          f">= 0.5: {np.mean(positive >= 0.5):.3f} / {np.mean(negative >= 0.5):.3f} (with / without)")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("what", choices=("pairs", "train", "measure", "added"))
+    parser.add_argument("what", choices=("pairs", "train", "measure", "added", "score"))
     parser.add_argument("run", type=Path)
     parser.add_argument("renders", type=Path)
     parser.add_argument("region")
@@ -431,6 +461,8 @@ def main() -> None:
     FRONT_KEPT[0] = args.front_kept
     if args.what == "pairs":
         pairs(args.run, args.renders, args.region)
+    elif args.what == "score":
+        score(args.renders, args.region, args.checkpoint)
     elif args.what == "added":
         added(args.run, args.renders, args.region, args.checkpoint, args.threshold[0])
     elif args.what == "train":
