@@ -1,0 +1,66 @@
+"""The tables of ``results/``: each camera's arms by seed and half, with pose agreement where measured; then every
+pose reading (``pose.jsonl`` and ``pose_hybrids.jsonl``) with the people read with left and right swapped (frozen
+experiment, issue 57 item 2).
+
+    python summarise.py > results/summary.md
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+RESULTS = Path(__file__).parent / "results"
+HALVES = ("choosing", "confirming")
+
+
+def _pose() -> dict[tuple[str, int, str, str], tuple[float, float]]:
+    """(camera, seed, half, arm) -> pose agreement (each frame, tracked) from ``results/pose.jsonl``."""
+    readings = {}
+    path = RESULTS / "pose.jsonl"
+    for line in path.read_text().splitlines() if path.exists() else []:
+        record = json.loads(line)
+        half = "choosing" if record["frames"][0] == 1 else "confirming"
+        for arm in record["bundles"]:
+            readings[(record["camera"], record["seed"], half, arm)] = (
+                record["readings"][f"{arm}, each frame"]["overall"], record["readings"][f"{arm}, tracked"]["overall"])
+    return readings
+
+
+def main() -> None:
+    pose = _pose()
+    print("| camera | arm | seed | half | AP50 tracked | each frame | overlapping another | apart | recall / precision"
+          " at the operating point | pose each frame / tracked |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for folder in sorted(path for path in RESULTS.iterdir() if path.is_dir()):
+        camera, arm = folder.name.split("_", 1)
+        for result in sorted(folder.glob("seed*_*.json"), key=lambda p: (HALVES.index(p.stem.split("_")[1]), p.stem)):
+            seed, half = int(result.stem.split("_")[0][4:]), result.stem.split("_")[1]
+            data = json.loads(result.read_text())
+            groups = data["recall_by_group"]
+            overlapping = groups.get("overlapping another", {"recall": float("nan"), "people": 0})
+            reading = pose.get((camera, seed, half, arm))
+            print(f"| {camera} | {arm} | {seed} | {half} | {data['ap50_tracked']:.4f} | {data['ap50_each_frame']:.4f} | "
+                  f"{overlapping['recall']:.3f} ({overlapping['people']}) | {groups['apart']['recall']:.3f} | "
+                  f"{data['recall']:.3f} / {data['precision']:.3f} | "
+                  + (f"{reading[0]:.3f} / {reading[1]:.3f} |" if reading else "– |"))
+    pose_table()
+
+
+def pose_table() -> None:
+    print("\n| camera | seed | half | bundle | pose each frame (swapped of people) | tracked (swapped) |")
+    print("|---|---|---|---|---|---|")
+    for name in ("pose.jsonl", "pose_hybrids.jsonl"):
+        path = RESULTS / name
+        for line in path.read_text().splitlines() if path.exists() else []:
+            record = json.loads(line)
+            half = "choosing" if record["frames"][0] == 1 else "confirming"
+            for arm in record["bundles"]:
+                each, tracked = (record["readings"][f"{arm}, {mode}"] for mode in ("each frame", "tracked"))
+                print(f"| {record['camera']} | {record['seed']} | {half} | {arm} ({name}) | {each['overall']:.3f} "
+                      f"({each['swapped']} of {each['people']}) | {tracked['overall']:.3f} "
+                      f"({tracked['swapped']} of {tracked['people']}) |")
+
+
+if __name__ == "__main__":
+    main()
