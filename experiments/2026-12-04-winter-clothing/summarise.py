@@ -40,7 +40,8 @@ def main() -> None:
             groups = data["recall_by_group"]
             overlapping = groups.get("overlapping another", {"recall": float("nan"), "people": 0})
             reading = pose.get((camera, seed, half, arm))
-            print(f"| {camera} | {arm} | {seed} | {half} | {data['ap50_tracked']:.4f} | {data['ap50_each_frame']:.4f} | "
+            print(f"| {camera} | {arm} | {seed} | {half} | {data['ap50_tracked']:.4f} | "
+                  f"{data['ap50_each_frame']:.4f} | "
                   f"{overlapping['recall']:.3f} ({overlapping['people']}) | {groups['apart']['recall']:.3f} | "
                   f"{data['recall']:.3f} / {data['precision']:.3f} | "
                   + (f"{reading[0]:.3f} / {reading[1]:.3f} |" if reading else "– |"))
