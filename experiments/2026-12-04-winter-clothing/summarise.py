@@ -51,12 +51,16 @@ def main() -> None:
 def pose_table() -> None:
     print("\n| camera | seed | half | bundle | pose each frame (swapped of people) | tracked (swapped) |")
     print("|---|---|---|---|---|---|")
+    shown = set()  # a bundle read again beside another arm reads the same: one row each
     for name in ("pose.jsonl", "pose_hybrids.jsonl"):
         path = RESULTS / name
         for line in path.read_text().splitlines() if path.exists() else []:
             record = json.loads(line)
             half = "choosing" if record["frames"][0] == 1 else "confirming"
             for arm in record["bundles"]:
+                if (record["camera"], record["seed"], half, arm) in shown:
+                    continue
+                shown.add((record["camera"], record["seed"], half, arm))
                 each, tracked = (record["readings"][f"{arm}, {mode}"] for mode in ("each frame", "tracked"))
                 print(f"| {record['camera']} | {record['seed']} | {half} | {arm} ({name}) | {each['overall']:.3f} "
                       f"({each['swapped']} of {each['people']}) | {tracked['overall']:.3f} "
