@@ -1,6 +1,6 @@
 """The tables of ``results/``: each camera's arms by seed and half, with pose agreement where measured; then every
-pose reading (``pose.jsonl`` and ``pose_hybrids.jsonl``) with the people read with left and right swapped (frozen
-experiment, issue 57 item 2).
+pose reading (``pose.jsonl`` and ``pose_hybrids.jsonl``) with the people read with left and right swapped; last,
+winter against mixed seed by seed, the decision's table (frozen experiment, issue 57 item 2).
 
     python summarise.py > results/summary.md
 """
@@ -46,6 +46,42 @@ def main() -> None:
                   f"{data['recall']:.3f} / {data['precision']:.3f} | "
                   + (f"{reading[0]:.3f} / {reading[1]:.3f} |" if reading else "– |"))
     pose_table()
+    paired_table(pose)
+
+
+def _measured() -> dict[tuple[str, str, int, str], dict]:
+    """(camera, arm, seed, half) -> the measurement of ``results/CAMERA_ARM/seedS_HALF.json``."""
+    found = {}
+    for result in RESULTS.glob("*_*/seed*_*.json"):
+        camera, arm = result.parent.name.split("_", 1)
+        found[(camera, arm, int(result.stem.split("_")[0][4:]), result.stem.split("_")[1])] = json.loads(
+            result.read_text())
+    return found
+
+
+def paired_table(pose: dict) -> None:
+    """Winter minus mixed on every seed both arms have, per camera and half: the mean difference and on how many
+    seeds winter is ahead, for AP50 tracked and each frame, and pose each frame and tracked."""
+    measured = _measured()
+    print("\n| camera | half | seeds | AP50 tracked, winter - mixed (ahead) | each frame | pose each frame "
+          "| pose tracked |")
+    print("|---|---|---|---|---|---|---|")
+    for camera in sorted({key[0] for key in measured}):
+        for half in HALVES:
+            seeds = sorted(seed for (c, arm, seed, h) in measured if (c, arm, h) == (camera, "winter", half)
+                           and (camera, "mixed", seed, half) in measured)
+            cells = []
+            for key, source in (("ap50_tracked", "box"), ("ap50_each_frame", "box"), (0, "pose"), (1, "pose")):
+                if source == "box":
+                    gains = [measured[(camera, "winter", s, half)][key] - measured[(camera, "mixed", s, half)][key]
+                             for s in seeds]
+                else:
+                    read = [s for s in seeds if {(camera, s, half, arm) for arm in ("winter", "mixed")} <= pose.keys()]
+                    gains = [pose[(camera, s, half, "winter")][key] - pose[(camera, s, half, "mixed")][key]
+                             for s in read]
+                cells.append(f"{sum(gains) / len(gains):+.3f} ({sum(g > 0 for g in gains)} of {len(gains)})"
+                             if gains else "–")
+            print(f"| {camera} | {half} | {', '.join(map(str, seeds))} | " + " | ".join(cells) + " |")
 
 
 def pose_table() -> None:
