@@ -50,12 +50,13 @@ def _right(people: list[dict], name: str) -> float:
 
 
 def _by_identity(people: list[dict], name: str) -> dict:
-    """How many people (identities) a model reads the other way most of the time, and its worst three's counts."""
+    """How many people (identities) a model reads the other way most of the time, and the three it reads so most."""
     wrong: dict[int, list[bool]] = {}
     for p in people:
         wrong.setdefault(p["id"], []).append((p["logits"][name] > 0) != p["front"])
     return {"people": len(wrong), "mostly_wrong": int(sum(np.mean(w) > 0.5 for w in wrong.values())),
-            "wrong_readings_of_the_worst_3": sorted((int(np.sum(w)) for w in wrong.values()), reverse=True)[:3]}
+            "worst_3": [{"id": identity, "wrong": int(np.sum(w)), "of": len(w)} for identity, w in
+                        sorted(wrong.items(), key=lambda item: -np.sum(item[1]))[:3]]}
 
 
 def report(people: list[dict], names: list[str]) -> dict:
