@@ -32,7 +32,7 @@ def main() -> None:
     print("| camera | arm | seed | half | AP50 tracked | each frame | overlapping another | apart | recall / precision"
           " at the operating point | pose each frame / tracked |")
     print("|---|---|---|---|---|---|---|---|---|---|")
-    for folder in sorted(path for path in RESULTS.iterdir() if path.is_dir()):
+    for folder in sorted(path for path in RESULTS.glob("*_*") if path.is_dir()):  # CAMERA_ARM, not robustness/
         camera, arm = folder.name.split("_", 1)
         for result in sorted(folder.glob("seed*_*.json"), key=lambda p: (HALVES.index(p.stem.split("_")[1]), p.stem)):
             seed, half = int(result.stem.split("_")[0][4:]), result.stem.split("_")[1]
