@@ -30,6 +30,7 @@ import numpy as np
 import real
 import second_person
 
+import vc.deploy.decode as decoding
 import vc.deploy.runtime as runtime_module
 from vc.deploy.decode import UPRIGHT_PRIOR
 from vc.deploy.frames import FrameRange, FrameSource
@@ -52,6 +53,16 @@ def decode_weak_behind(heatmaps, config, expected_height_px=None, weak_above=Non
         return people
     front = len(second_person._DECODE(heatmaps, config, expected_height_px, weak_above, prior))
     return people[:front] + [replace(person, weak=True) for person in people[front:]]
+
+
+def _peaks_inside(heatmap, threshold, limit=None):
+    """``second_person``'s peaks, then the people behind them kept inside the map: an offset can carry a person
+    behind one at the map's edge beyond it, where the decoder would index outside the map (or wrap round, below
+    zero). The centre map's own peaks are left as the decoder finds them."""
+    own = len(second_person._FIND_PEAKS(heatmap, threshold, limit))
+    peaks = second_person._find_peaks_behind(heatmap, threshold, limit)
+    height, width = heatmap.shape[-2:]
+    return peaks[:own] + [(value, np.clip(centre, 0, [width - 1, height - 1])) for value, centre in peaks[own:]]
 
 
 def reported(bundle: Path, frames: str) -> dict:
@@ -87,6 +98,7 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=0, help="the compile seed of BUNDLE (names the result files)")
     args = parser.parse_args()
     real.install()
+    decoding.find_peaks = _peaks_inside
     runtime_module.decode = decode_weak_behind
     second_person.THRESHOLD[0] = args.threshold
     WEAK[0] = args.weak
