@@ -48,6 +48,49 @@ def test_an_overcast_sky_has_no_sun(demo) -> None:
     assert abs(errors["sky_luminance_error"]) <= 0.15
 
 
+
+@pytest.mark.slow
+def test_dark_ground_under_some_solids_shadows_is_not_a_sun(demo) -> None:
+    """Overcast, with the ground darkened where one sun would cast every solid's shadow but one well-measured
+    solid's: the darkness is the ground's, not a sun's (TUD-Stadtmitte's planter by an undescribed shop front,
+    docs/decisions/0055-a-sun-darkens-every-shadow.md). Darkened under every solid, it reads as that sun."""
+    from vc.calibration.lighting import (
+        AGREEING_SHADOW_PIXELS,
+        ground_view,
+        measure_shadows,
+        shadow_mask,
+        sun_direction,
+        sun_from_shadows,
+    )
+    from vc.calibration.response import Response
+    from vc.render.background import render_background
+    from vc.render.relight import layout_solids
+
+    camera = demo.camera.resized(480, 270)
+    image = render_background(camera, demo.layout, recovery.CASES["overcast"], spp=16, seed=3)
+    clipped, linear = image.max(axis=-1) == 255, Response("srgb").decode(image)
+    solids, walkable = layout_solids(demo.layout), demo.layout.walkable_area()
+    towards = sun_direction(215.0, 40.0)
+    plain = ground_view(camera, linear, clipped, walkable, solids)
+    lit = max(range(len(solids)), key=lambda i: sum(m.shadow_pixels for m in measure_shadows(camera, plain,
+                                                                                              [solids[i]], towards)))
+    assert sum(m.shadow_pixels for m in measure_shadows(camera, plain, [solids[lit]], towards)) >= \
+        AGREEING_SHADOW_PIXELS
+
+    def darkened_under(indices) -> dict:
+        dark = linear.copy()
+        for i in indices:
+            dark[shadow_mask(camera, plain.ground.shape, [solids[i]], towards) & plain.ground] *= 0.45
+        finding = sun_from_shadows(camera, ground_view(camera, dark, clipped, walkable, solids), solids)
+        return {"sun": finding.direction, "reason": finding.reason, **(finding.shadow or {})}
+
+    some = darkened_under([i for i in range(len(solids)) if i != lit])
+    assert some["sun"] is None and "dark ground" in some["reason"], some
+    assert some["contrast"] >= 1.25 and some["agreement"] < 0.5  # dark enough to have passed for a sun before
+    every = darkened_under(range(len(solids)))
+    assert every["sun"] is not None and every["agreement"] >= 0.5, every
+    assert abs((every["sun"][0] - 215.0 + 180.0) % 360.0 - 180.0) <= 10.0 and abs(every["sun"][1] - 40.0) <= 10.0
+
 def test_a_known_location_and_time_give_the_sun_in_the_scene_frame() -> None:
     """Reading (UK) at the March 2009 equinox around solar noon: the sun stands due south, 38-39 degrees up.
     With north along +y, south is azimuth 270 (towards -y)."""

@@ -153,7 +153,7 @@ def added_people(bundle: Path, frames: str) -> list[dict]:
                 rows.append({"frame": frame.number, "box": [round(float(v), 1) for v in person.box],
                              "someone": best >= 0.5, "best_iou_free": round(best, 3),
                              **{name: round(float(value), 4)
-                                for name, value in zip(FEATURES, person.keypoints[:len(FEATURES), 2])}})
+                                for name, value in zip(FEATURES, person.keypoints[:len(FEATURES), 2], strict=True)}})
     return rows
 
 

@@ -17,9 +17,11 @@ The estimate, step by step:
    them; else searched: for each candidate direction the known solids' shadows are cast onto the ground and
    projected into the image, and the candidate scores by how much darker the predicted shadows are than a ring
    of ground around them, and over how many pixels (:func:`shadow_score`). The best
-   candidate counts as a sun only when its shadows are clearly dark (:data:`MIN_SUN_CONTRAST`) and clearly
+   candidate counts as a sun only when its shadows are clearly dark (:data:`MIN_SUN_CONTRAST`), clearly
    darker than a typical direction's (:data:`MIN_SUN_PROMINENCE`: ground next to any solid is a little darker
-   under any sky, since the solid hides part of it); otherwise the scene is overcast (no direct sun).
+   under any sky, since the solid hides part of it), and dark for every well-measured solid alike
+   (:data:`MIN_SHADOW_AGREEMENT`: one solid's shadow on ground dark for another reason is not a sun); otherwise
+   the scene is overcast (no direct sun).
 3. **Sun over sky.** Lit ground receives ``sky + sun * sin(elevation)``, shadowed ground of the same material
    ``sky``: the lit/shadow ratio ``r`` gives ``sun / sky = (r - 1) / sin(elevation)``, per colour channel.
 4. **Absolute scale** (exposure and white balance): ``sky`` per channel is the median over lit known ground of
@@ -58,6 +60,13 @@ SKY_MODELS = ("uniform", "cie_overcast")
 MIN_SUN_CONTRAST = 1.25
 #: ... and its log contrast this much above the median candidate direction's.
 MIN_SUN_PROMINENCE = 0.15
+#: ... and every solid whose predicted shadow is measured on at least AGREEING_SHADOW_PIXELS pixels darkened by
+#: at least this share of the solids' mean log contrast: a sun darkens every shadow it casts on open ground
+#: alike, so one solid's predicted shadow falling on ground dark for another reason (the contact darkness along a
+#: building's base that no layout wall describes, dark paving) is not a sun while another's stays lit
+#: (docs/decisions/0055-a-sun-darkens-every-shadow.md).
+MIN_SHADOW_AGREEMENT = 0.5
+AGREEING_SHADOW_PIXELS = 100
 #: Smallest number of pixels of one solid's predicted shadow (and of the ring around it) that is measured.
 MIN_SHADOW_PIXELS = 6
 #: Width (pixels) of the ring of ground around a predicted shadow that it is compared with.
@@ -355,6 +364,15 @@ class SunSearch:
     def prominence(self) -> float:
         return self.log_contrast - self.baseline_log_contrast
 
+    @property
+    def agreement(self) -> float:
+        """The least log contrast of a well-measured solid's shadow (AGREEING_SHADOW_PIXELS) over the mean's: 1
+        when every shadow is as dark as the mean, near 0 or below when one stays as light as its surroundings."""
+        measured = [m.log_contrast for m in self.measures if m.shadow_pixels >= AGREEING_SHADOW_PIXELS]
+        if not measured or self.log_contrast <= 0.0:
+            return 1.0
+        return min(measured) / self.log_contrast
+
 
 def search_sun(camera: Camera, view: GroundView, solids: Sequence[np.ndarray]) -> SunSearch | None:
     """The sun direction whose predicted shadows are darkest against their surroundings (coarse grid, then a
@@ -472,6 +490,7 @@ def sun_from_shadows(camera: Camera, view: GroundView, solids: Sequence[np.ndarr
         return _no_sun("no known solid casts a shadow on visible ground for any sun direction: no sun can be "
                        "measured")
     shadow = {"contrast": round(search.contrast, 4), "prominence": round(search.prominence, 4),
+              "agreement": round(search.agreement, 4),
               "azimuth_deg": search.azimuth_deg, "elevation_deg": search.elevation_deg,
               "candidates": search.candidates, "solids": len(search.measures),
               "shadow_pixels": sum(m.shadow_pixels for m in search.measures)}
@@ -480,6 +499,10 @@ def sun_from_shadows(camera: Camera, view: GroundView, solids: Sequence[np.ndarr
                        f"ground around them (a sun needs >= {MIN_SUN_CONTRAST}x and "
                        f"{math.exp(MIN_SUN_PROMINENCE):.2f}x over a typical direction, found "
                        f"{math.exp(search.prominence):.2f}x): overcast", shadow)
+    if search.agreement < MIN_SHADOW_AGREEMENT:
+        return _no_sun(f"no direct sun: the darkest predicted shadows are {search.contrast:.2f}x darker than the "
+                       f"ground around them, but one solid's is only {search.contrast ** search.agreement:.2f}x "
+                       f"(a sun darkens every shadow alike): dark ground, not shadow", shadow)
     direction = (search.azimuth_deg, search.elevation_deg)
     return SunFinding(direction, shadow_ratio_rgb(camera, view, solids, sun_direction(*direction)), "cast shadows",
                       f"the known solids' shadows are {search.contrast:.2f}x darker than the ground around them for "
