@@ -1,5 +1,6 @@
-"""The experiment's table: TUD-Stadtmitte drawn with its obstacles against the winter bundle of the same seed, seed
-by seed and half, then the means (frozen experiment, issue 57 item 2).
+"""The experiment's tables: each arm (``results/tud_ARM/``: ``obstacles``, drawn as an installer draws it;
+``obstacles_only``, the walkable rectangle kept) against the winter bundle of the same seed, seed by seed and half,
+then the means (frozen experiment, issue 57 item 2).
 
     python summarise.py > results/summary.md
 """
@@ -10,7 +11,6 @@ import json
 from pathlib import Path
 
 HERE = Path(__file__).parent
-OBSTACLES = HERE / "results" / "tud_obstacles"
 WINTER = HERE.parent / "2026-12-04-winter-clothing" / "results" / "tud_winter"
 HALVES = ("choosing", "confirming")
 
@@ -39,24 +39,31 @@ def _row(data: dict, pose: dict | None) -> list[float]:
 
 def main() -> None:
     pose = _pose()
+    for folder in sorted((HERE / "results").glob("tud_*")):
+        print(f"\n**{folder.name.removeprefix('tud_')}**\n")
+        _table(folder, folder.name.removeprefix("tud_"), pose)
+
+
+def _table(folder: Path, arm: str, pose: dict[tuple[int, str, str], dict]) -> None:
+    """The arm of ``folder`` against winter, seed by seed and half, with the means."""
     columns = ("AP50 tracked", "each frame", "overlapping another", "false people in the open",
                "pose each frame", "pose tracked", "swapped each frame")
     print("| half | seed | " + " | ".join(columns) + " |")
     print("|---|---|" + "---|" * len(columns))
     for half in HALVES:
-        means = {"winter": [], "obstacles": []}
-        for result in sorted(OBSTACLES.glob(f"seed*_{half}.json")):
+        means = {"winter": [], arm: []}
+        for result in sorted(folder.glob(f"seed*_{half}.json")):
             seed = int(result.stem.split("_")[0][4:])
             rows = {"winter": _row(json.loads((WINTER / result.name).read_text()), pose.get((seed, half, "winter"))),
-                    "obstacles": _row(json.loads(result.read_text()), pose.get((seed, half, "obstacles")))}
+                    arm: _row(json.loads(result.read_text()), pose.get((seed, half, arm)))}
             for arm, row in rows.items():
                 means[arm].append(row)
             print(f"| {half} | {seed} | " + " | ".join(
                 f"{w:.3f} → {o:.3f}" if isinstance(w, float) else f"{w} → {o}"
-                for w, o in zip(rows["winter"], rows["obstacles"], strict=True)) + " |")
+                for w, o in zip(rows["winter"], rows[arm], strict=True)) + " |")
         mean = {arm: [sum(column) / len(column) for column in zip(*rows, strict=True)] for arm, rows in means.items()}
         print(f"| {half} | mean | " + " | ".join(
-            f"{w:.3f} → {o:.3f}" for w, o in zip(mean["winter"], mean["obstacles"], strict=True)) + " |")
+            f"{w:.3f} → {o:.3f}" for w, o in zip(mean["winter"], mean[arm], strict=True)) + " |")
 
 
 if __name__ == "__main__":
