@@ -48,7 +48,6 @@ def test_an_overcast_sky_has_no_sun(demo) -> None:
     assert abs(errors["sky_luminance_error"]) <= 0.15
 
 
-
 @pytest.mark.slow
 def test_dark_ground_under_some_solids_shadows_is_not_a_sun(demo) -> None:
     """Overcast, with the ground darkened where one sun would cast every solid's shadow but one well-measured
@@ -90,6 +89,7 @@ def test_dark_ground_under_some_solids_shadows_is_not_a_sun(demo) -> None:
     every = darkened_under(range(len(solids)))
     assert every["sun"] is not None and every["agreement"] >= 0.5, every
     assert abs((every["sun"][0] - 215.0 + 180.0) % 360.0 - 180.0) <= 10.0 and abs(every["sun"][1] - 40.0) <= 10.0
+
 
 def test_a_known_location_and_time_give_the_sun_in_the_scene_frame() -> None:
     """Reading (UK) at the March 2009 equinox around solar noon: the sun stands due south, 38-39 degrees up.

@@ -66,6 +66,8 @@ MIN_SUN_PROMINENCE = 0.15
 #: building's base that no layout wall describes, dark paving) is not a sun while another's stays lit
 #: (docs/decisions/0055-a-sun-darkens-every-shadow.md).
 MIN_SHADOW_AGREEMENT = 0.5
+#: A solid's predicted shadow counts toward that agreement when measured on at least this many pixels: a shadow
+#: of a few pixels measures its contrast too roughly to veto a sun that the others agree on.
 AGREEING_SHADOW_PIXELS = 100
 #: Smallest number of pixels of one solid's predicted shadow (and of the ring around it) that is measured.
 MIN_SHADOW_PIXELS = 6
