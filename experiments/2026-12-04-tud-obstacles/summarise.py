@@ -1,6 +1,6 @@
 """The experiment's tables: each arm (``results/tud_ARM/``: ``obstacles``, drawn as an installer draws it;
-``obstacles_only``, the walkable rectangle kept) against the winter bundle of the same seed, seed by seed and half,
-then the means (frozen experiment, issue 57 item 2).
+``obstacles_only``, the walkable rectangle kept; ``trimmed_only``, the trimmed ground without obstacles) against the
+winter bundle of the same seed, seed by seed and half, then the means (frozen experiment, issue 57 item 2).
 
     python summarise.py > results/summary.md
 """
