@@ -45,6 +45,11 @@ VARIANTS: dict[str, tuple[dict, float | None]] = {
     **{f"seen_{value}": ({"coast_min_observations": value}, None) for value in (2, 5)},
     **{f"decay_{value}s": ({"coast_score_decay_s": value}, None) for value in (0.5, 2.0)},
     **{f"weak_{value}": ({"weak_people_above": value}, None) for value in (0.05, 0.15)},
+    "coast_1.2s_never": ({"coast_s": 1.2, "coast_duplicate_iou": 1.01}, None),
+    "coast_0.8s_iou_0.9": ({"coast_s": 0.8, "coast_duplicate_iou": 0.9}, None),
+    "coast_1.2s_iou_0.9": ({"coast_s": 1.2, "coast_duplicate_iou": 0.9}, None),
+    "coast_1.2s_iou_0.8": ({"coast_s": 1.2, "coast_duplicate_iou": 0.8}, None),
+    "coast_1.0s_iou_0.8": ({"coast_s": 1.0, "coast_duplicate_iou": 0.8}, None),
 }
 
 
