@@ -5,33 +5,28 @@ issue 57 item 2).
     PYTHONPATH=../../src python measure.py CAMERA SEED BUNDLE --label COMPILE [--variants NAME ...] \
         [--halves choosing] >> results/CAMERA.jsonl
 
-Each run is ``../2026-12-05-carried-people/measure.py``'s measurement (``vc-eval``'s, on one half), the tracker's
-step 5 replaced by :class:`DepthAwareTracker` with the variant's settings (:data:`VARIANTS`).
+Each run is ``../2026-12-05-carried-people/measure.py``'s measurement and command line (``vc-eval``'s, on one half),
+the tracker's step 5 replaced by :class:`DepthAwareTracker` with the variant's settings (:data:`VARIANTS`).
 """
 
 from __future__ import annotations
 
-import argparse
 import importlib.util
-import json
 import sys
-import tempfile
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 import vc.evaluation.real_video as real_video
 from vc.deploy.boxes import box_iou, foot_points
-from vc.deploy.frames import FrameRange
 from vc.deploy.runtime import Person
-from vc.deploy.tracking import Tracker, TrackingConfig
-from vc.evaluation.real_video import OURS, OURS_SINGLE_FRAME, EvaluationRequest, evaluate_bundle
+from vc.deploy.tracking import Tracker
 
-_RECHECK = importlib.util.spec_from_file_location(
-    "recheck", Path(__file__).parent.parent / "2026-11-29-decisions-on-halves" / "recheck.py")
-recheck = sys.modules["recheck"] = importlib.util.module_from_spec(_RECHECK)
-_RECHECK.loader.exec_module(recheck)
+_CARRIED = importlib.util.spec_from_file_location(
+    "carried_measure", Path(__file__).parent.parent / "2026-12-05-carried-people" / "measure.py")
+carried = sys.modules["carried_measure"] = importlib.util.module_from_spec(_CARRIED)
+_CARRIED.loader.exec_module(carried)
 
 
 @dataclass(frozen=True)
@@ -74,40 +69,19 @@ def depth_aware(rule: SameDepth):
 
 
 def measure(camera: str, bundle: Path, half: str, variant: str) -> dict:
+    """``carried-people``'s measurement with the variant's tracker settings and, where it has one, its rule."""
     fields, rule = VARIANTS[variant]
-    settings = recheck.CAMERAS[camera]
+    carried.VARIANTS[variant] = (fields, None)
     real_video.Tracker = depth_aware(rule) if rule is not None else Tracker
     try:
-        with tempfile.TemporaryDirectory() as scratch:
-            request = EvaluationRequest(bundle=bundle, video=settings["video"], ground_truth=settings["gt"],
-                                        output=Path(scratch), frames=FrameRange.parse(settings["halves"][half]),
-                                        hog=False, threads=2, tracking=replace(TrackingConfig(), **fields),
-                                        fps=settings["fps"])
-            report = evaluate_bundle(request, show_progress=False)
+        return _carried_measure(camera, bundle, half, variant)
     finally:
         real_video.Tracker = Tracker
-    detectors, misses = report.metrics["detectors"], report.misses
-    return {"ap50_tracked": detectors[OURS]["ap50"], "ap50_each_frame": detectors[OURS_SINGLE_FRAME]["ap50"],
-            "tracking": report.metrics["tracking"].get("accuracy"),
-            "recall_by_group": misses.recall_by_group(), "recall_by_height": misses.recall_by_height(),
-            "recall": misses.recall, "precision": misses.precision, "false_positives": misses.false_positive_kinds()}
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("camera", choices=sorted(recheck.CAMERAS))
-    parser.add_argument("seed", type=int)
-    parser.add_argument("bundle", type=Path)
-    parser.add_argument("--variants", nargs="*", default=list(VARIANTS))
-    parser.add_argument("--halves", nargs="*", default=["choosing", "confirming"])
-    parser.add_argument("--label", default="", help="which compile the bundle is, written with each line")
-    args = parser.parse_args()
-    for half in args.halves:
-        for variant in args.variants:
-            result = measure(args.camera, args.bundle, half, variant)
-            print(json.dumps({"camera": args.camera, "seed": args.seed, "compile": args.label, "half": half,
-                              "variant": variant, **result}), flush=True)
-
+_carried_measure = carried.measure
+carried.measure = measure  # carried-people's command line, over this experiment's variants
+carried.VARIANTS = {name: (fields, None) for name, (fields, _) in VARIANTS.items()}
 
 if __name__ == "__main__":
-    main()
+    carried.main()
