@@ -17,7 +17,7 @@ import yaml
 from conftest import REPO
 from matplotlib.transforms import Bbox
 
-from benchmarks import RESULTS, display_path, results_folder
+from benchmarks import RESULTS, display_path, protocol, results_folder
 from benchmarks import accuracy_vs_time as sweep_module
 from benchmarks import effects_ablation as ablation
 from benchmarks import render_throughput as throughput
@@ -151,6 +151,38 @@ def test_the_choosing_and_confirming_halves_split_a_range_at_its_middle():
     assert positions_by_half([1, 11, 191, 200, 201, 391], 1, 400) == {CHOOSING: [0, 1, 2, 3], CONFIRMING: [4, 5]}
     assert halves_cell({"real_ap50_choosing": 0.84, "real_ap50_confirming": 0.8814}) == "0.840 / 0.881"
     assert halves_cell({"real_ap50": 0.9, "real_ap50_choosing": 0.84}) == "—"  # measured before the halves
+
+
+def test_a_retrained_gain_within_its_seeds_spread_is_level_where_the_same_gain_read_another_way_is_not():
+    read, retrained = protocol.Change.READ, protocol.Change.RETRAINED
+    replaced, changed = [0.960, 0.957, 0.955], [0.970, 0.967, 0.965]  # +0.010 on each seed, PETS09 confirming
+
+    assert protocol.difference(read, "AP50 tracked", "pets", CONFIRMING, replaced, changed).call == "gain"
+    three = protocol.difference(retrained, "AP50 tracked", "pets", CONFIRMING, replaced, changed)
+    assert three.call == "level" and three.mean == pytest.approx(0.010)
+    # six seeds narrow the band by the square root of two
+    six = protocol.difference(retrained, "AP50 tracked", "pets", CONFIRMING, replaced * 2, changed * 2)
+    assert six.level_within == pytest.approx(three.level_within / 2 ** 0.5)
+    lost = protocol.difference(retrained, "AP50 tracked", "tud", CHOOSING, [0.82, 0.83, 0.81], [0.78, 0.79, 0.77])
+    assert lost.call == "loss"
+
+
+def test_a_change_is_kept_for_a_gain_where_it_was_chosen_and_no_loss_anywhere():
+    def read(camera, half, mean):
+        return protocol.difference(protocol.Change.READ, "AP50 tracked", camera, half, [0.9], [0.9 + mean])
+
+    gain_and_level = [read("pets", CHOOSING, 0.01), read("tud", CHOOSING, 0.0), read("pets", CONFIRMING, 0.0),
+                      read("tud", CONFIRMING, 0.005)]
+    assert protocol.kept(gain_and_level)
+    assert not protocol.kept(gain_and_level[:3] + [read("tud", CONFIRMING, -0.03)])  # lost where it is confirmed
+    assert not protocol.kept([read("pets", CHOOSING, 0.0), read("pets", CONFIRMING, 0.02)])  # gained only there
+
+
+def test_a_comparison_the_spread_was_not_measured_for_or_of_unpaired_seeds_is_refused():
+    with pytest.raises(ValueError, match="no measured seed-to-seed spread of pose each frame"):
+        protocol.difference(protocol.Change.READ, "pose each frame", "pets", CHOOSING, [0.7], [0.71])
+    with pytest.raises(ValueError, match="compared seed by seed"):
+        protocol.difference(protocol.Change.RETRAINED, "AP50 tracked", "pets", CHOOSING, [0.9, 0.91], [0.92])
 
 
 def _as_compiled(knob: str, value: str, ap50: float, runtime_vs_base: float, minutes: float = 54.0) -> dict:

@@ -108,10 +108,11 @@ def measure() -> dict:
             for half in HALVES:
                 compile_sd, compile_dof = pooled_sd([values(runs, half, figure) for runs in groups.values()])
                 training = values(retrained, half, figure)
+                training_sd = float(np.std(training, ddof=1)) if len(training) > 1 else None
                 spread[f"{camera} {half} {figure}"] = {
                     "compiles": {name: values(runs, half, figure) for name, runs in groups.items()},
                     "compile_sd": compile_sd, "compile_dof": compile_dof,
-                    "trainings": training, "training_sd": float(np.std(training, ddof=1)) if len(training) > 1 else None,
+                    "trainings": training, "training_sd": training_sd,
                 }
             spread[f"{camera} {figure} half correlation"] = half_correlation(list(groups.values()), figure)
     return spread
