@@ -2,13 +2,16 @@
 halves, decoded two ways (frozen experiment, issue 57 item 2).
 
     PYTHONPATH=../..:../../src:../2026-12-01-head-beside-centre:../2026-12-01-visible-anchor \
-        python measure_heads.py CAMERA SEED BUNDLE
+        python measure_heads.py CAMERA SEED BUNDLE [--all]
 
 - ``centre_only``: the bundle as the runtime ships it (its centre map alone; the head and size maps are not read).
 - ``head``: 0036's "one network" arm, as head-beside-centre's ``measure_both.py --same-head 0.1`` decodes it: r0's
   maps decoded as shipped, then from the head map (the centre at the head plus the offset there times the size
   map's height); a head-found person whose box overlaps every one of today's by less than IoU 0.5 is added, and
   dropped after the seam rule where another reported person's head lies within 0.1 of their height.
+
+With ``--all`` (a bundle whose every region learned the head map: ``REGIONS="r0 r1" run.sh``) every region is read
+so, as arms ``centre_only_all`` and ``head_all``.
 
 Both are measured as results-as-shipped measures the shipped bundles (``vc-eval``'s scorer and miss analysis,
 tracked and each frame), so the control is that experiment's ``results/CAMERA/seedS_HALF.json``. Writes
@@ -20,15 +23,18 @@ from __future__ import annotations
 import argparse
 import json
 import tempfile
+import threading
 from pathlib import Path
 
 import measure_both
+import numpy as np
 import second_look
 import union
 import visible_decode
 from union import crowd_measure
 
 import vc.deploy.runtime as runtime
+from vc.deploy.boxes import box_iou
 
 RESULTS = Path(__file__).parent / "results"
 HALVES = ("choosing", "confirming")
@@ -36,14 +42,39 @@ SAME_HEAD = 0.1
 IOU = 0.5
 
 
-def read_heads() -> None:
-    """The runtime from here on decodes r0 as the ``head`` arm does (measure_both.py's setup, as union.main makes
-    it)."""
+_ADDING = threading.Lock()  # the regions run in parallel and add to one frame's list (union._ADDED)
+
+
+def every_region_people(self, frame: np.ndarray):
+    """measure_both.people for every region: today's people and the head map's that no box of today's holds; the
+    added are gathered over the frame's regions, and cleared once the seam rule has read them."""
+    heatmaps = self.heatmaps(frame)
+    today = self.faced(frame, self.people_in(heatmaps))
+    with visible_decode.anchored():
+        found = self.faced(frame, self.people_in(measure_both.head_maps(heatmaps)))
+    boxes = np.array([person.box for person in today if not person.weak]).reshape(-1, 4)
+    added = [person for person in found
+             if not person.weak and (not len(boxes) or box_iou(person.box[None], boxes).max() < IOU)]
+    with _ADDING:
+        union._ADDED.extend(added)
+    return today + added
+
+
+def read_heads(every_region: bool) -> None:
+    """The runtime from here on decodes r0 (or every region) as the ``head`` arm does (measure_both.py's setup, as
+    union.main makes it)."""
     visible_decode.install(set(), None, 20.0, 20.0)
     second_look.IOU[0] = IOU
-    runtime.RegionRunner.people = measure_both.people
+    runtime.RegionRunner.people = every_region_people if every_region else measure_both.people
     seam_rule = runtime.without_seam_duplicates
-    runtime.without_seam_duplicates = lambda people: union.without_added_same_heads(seam_rule(people), SAME_HEAD)
+
+    def one_head_one_person(people):
+        kept = union.without_added_same_heads(seam_rule(people), SAME_HEAD)
+        if every_region:
+            union._ADDED.clear()
+        return kept
+
+    runtime.without_seam_duplicates = one_head_one_person
 
 
 def measure_arm(camera: str, arm: str, seed: int, bundle: Path) -> None:
@@ -65,10 +96,12 @@ def main() -> None:
     parser.add_argument("camera", choices=sorted(crowd_measure.recheck.CAMERAS))
     parser.add_argument("seed", type=int)
     parser.add_argument("bundle", type=Path)
+    parser.add_argument("--all", action="store_true", help="every region learned the head map: read them all so")
     args = parser.parse_args()
-    measure_arm(args.camera, "centre_only", args.seed, args.bundle)
-    read_heads()
-    measure_arm(args.camera, "head", args.seed, args.bundle)
+    suffix = "_all" if args.all else ""
+    measure_arm(args.camera, f"centre_only{suffix}", args.seed, args.bundle)
+    read_heads(args.all)
+    measure_arm(args.camera, f"head{suffix}", args.seed, args.bundle)
 
 
 if __name__ == "__main__":

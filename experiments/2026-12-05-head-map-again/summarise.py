@@ -3,9 +3,9 @@
 
     PYTHONPATH=../.. python summarise.py
 
-The control is results-as-shipped's measurement of the same compiles. ``head`` and ``centre_only`` retrain r0, so
-each is called against the control as a retrained change; ``head`` against ``centre_only`` (the same networks, read
-another way) as a change read on the same bundles.
+The control is results-as-shipped's measurement of the same compiles. ``head`` and ``centre_only`` retrain r0
+(``*_all``: every region), so each is called against the control as a retrained change; ``head`` against
+``centre_only`` (the same networks, read another way) as a change read on the same bundles.
 """
 
 from __future__ import annotations
@@ -32,7 +32,10 @@ FIGURES = {"AP50 tracked": lambda run: run["ap50_tracked"], "AP50 each frame": l
 CALLED = ("AP50 tracked", "AP50 each frame")
 #: (arm, what it is called against, the kind of change).
 COMPARISONS = (("centre_only", "shipped", Change.RETRAINED), ("head", "shipped", Change.RETRAINED),
-               ("head", "centre_only", Change.READ))
+               ("head", "centre_only", Change.READ), ("centre_only_all", "shipped", Change.RETRAINED),
+               ("head_all", "shipped", Change.RETRAINED), ("head_all", "centre_only_all", Change.READ),
+               ("head_all", "head", Change.RETRAINED))
+ARMS = ("centre_only", "head", "centre_only_all", "head_all")
 
 
 def runs(folder: Path) -> dict[tuple[int, str], dict]:
@@ -44,14 +47,13 @@ def runs(folder: Path) -> dict[tuple[int, str], dict]:
 
 
 def camera_lines(camera: str) -> list[str]:
-    arms = {"shipped": runs(SHIPPED / camera), "centre_only": runs(RESULTS / f"{camera}_centre_only"),
-            "head": runs(RESULTS / f"{camera}_head")}
-    seeds = sorted({seed for seed, _ in arms["head"]} & {seed for seed, _ in arms["centre_only"]})
+    arms = {"shipped": runs(SHIPPED / camera)} | {arm: runs(RESULTS / f"{camera}_{arm}") for arm in ARMS}
+    arms = {arm: found for arm, found in arms.items() if found}
+    seeds = sorted({seed for seed, _ in arms.get("head", {})} & {seed for seed, _ in arms.get("centre_only", {})})
     if not seeds:
         return []
     lines = [f"## {CAMERAS[camera]}: seeds {', '.join(map(str, seeds))}", "",
-             "| figure | half | shipped | centre_only | head | seeds (shipped / centre_only / head) |",
-             "|---" * 6 + "|"]
+             f"| figure | half | {' | '.join(arms)} | seeds ({' / '.join(arms)}) |", "|---" * (len(arms) + 3) + "|"]
     for name, read in FIGURES.items():
         for half in HALVES:
             values = {arm: [read(arms[arm][seed, half]) for seed in seeds if (seed, half) in arms[arm]]
@@ -61,6 +63,8 @@ def camera_lines(camera: str) -> list[str]:
             lines.append(f"| {name} | {half} | {means} | {each} |")
     lines += ["", "| change | against | figure | half | difference | level within | call |", "|---" * 7 + "|"]
     for arm, against, change in COMPARISONS:
+        if arm not in arms or against not in arms:
+            continue
         for name in CALLED:
             for half in HALVES:
                 both = [seed for seed in seeds if (seed, half) in arms[arm] and (seed, half) in arms[against]]
