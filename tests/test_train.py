@@ -19,6 +19,7 @@ from vc.deploy.heatmaps import (
     CENTRE_OFFSET_CHANNELS,
     FINE_CENTRE_CHANNELS,
     FINE_CHANNELS,
+    HEAD_CHANNELS,
     HEATMAP_CHANNELS,
     MASK_CHANNEL,
     OFFSET_CHANNELS,
@@ -179,6 +180,20 @@ def test_resumed_training_ends_with_identical_weights(flat_dataset, tmp_path):
     for name, tensor in straight.net.state_dict().items():
         assert torch.equal(tensor, resumed.net.state_dict()[name]), name
     assert straight.history == resumed.history
+
+
+def test_a_network_with_the_head_map_learns_it_and_its_held_out_people_are_decoded(flat_dataset, tmp_path):
+    config = _config(codec=CodecConfig(centre_offsets=True, fine_centre=True, head_map=True))
+    assert config.network.heatmap_channels == HEAD_CHANNELS
+    assert TrainConfig.from_dict(config.to_dict()) == config
+    trainer = RegionTrainer(open_region(flat_dataset, "r0"), config, tmp_path / "run", flat_dataset, workers=0,
+                            show_progress=False)
+    trainer.train()
+    assert np.isfinite(trainer.history["loss"]).all()
+    assert load_checkpoint(checkpoint_path(tmp_path / "run", "r0")).config.codec.head_map
+    with torch.no_grad():
+        assert trainer.net(torch.zeros(1, 3, 64, 64))["heatmaps"].shape[1] == HEAD_CHANNELS
+    assert trainer.evaluate().region == "r0"  # held-out renders decoded with step 5
 
 
 def test_bf16_autocast_in_channels_last_trains_fp32_weights_and_resumes_identically(flat_dataset, tmp_path):

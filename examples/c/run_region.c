@@ -115,11 +115,12 @@ int main(int argc, char **argv) {
     int result = 1;
     if (crop && run_network(argv[3], crop, window[2], window[3], &maps, dimensions) == 0 &&
         dimensions[2] == region->heatmap_size[1] && dimensions[3] == region->heatmap_size[0]) {
-        vc_person *people = malloc(sizeof(vc_person) * (size_t)(region->config.max_people + 1));
+        /* room for the people of the centre map and, from a network with a head map, those read from the heads */
+        vc_person *people = malloc(sizeof(vc_person) * (size_t)(2 * region->config.max_people + 1));
         int count = 0;
         status = people ? vc_decode(maps, (int)dimensions[1], (int)dimensions[2], (int)dimensions[3], &region->config,
                                     region->expected_height_px, NAN, people,
-                                    region->config.max_people + 1, &count, NULL, NULL)
+                                    2 * region->config.max_people + 1, &count, NULL, NULL, NULL)
                         : VC_ERROR_MEMORY;
         if (status == VC_OK) {
             /* network-input pixels -> frame pixels (pixel centres at integers in both) */

@@ -1,7 +1,8 @@
 """The C decoder (vc.deploy.native) against numpy's, the reference: on random, degenerate and hostile heat maps the
-same people (count equal, boxes, centres and keypoints within 1e-3 px, scores, handedness and masks equal) or the
-same refusal. tests/test_native_sanitizers.py runs this module again on an AddressSanitizer and
-UndefinedBehaviorSanitizer build (:envvar:`VC_DECODER_LIBRARY`)."""
+same people read (:func:`vc.deploy.decode.decode_readings`; step 5's rules over them are numpy's for both): count
+equal, boxes, centres and keypoints within 1e-3 px, scores, handedness and masks equal; or the same refusal.
+tests/test_native_sanitizers.py runs this module again on an AddressSanitizer and UndefinedBehaviorSanitizer build
+(:envvar:`VC_DECODER_LIBRARY`)."""
 
 from __future__ import annotations
 
@@ -14,8 +15,15 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from vc.deploy import native
-from vc.deploy.decode import DecodeConfig, decode
-from vc.deploy.heatmaps import CENTRE_OFFSET_CHANNELS, LAYOUTS
+from vc.deploy.decode import DecodeConfig, decode_readings
+from vc.deploy.heatmaps import (
+    CENTRE_OFFSET_CHANNELS,
+    HEAD_CHANNEL,
+    HEAD_CHANNELS,
+    LAYOUTS,
+    SIZE_CHANNEL,
+    SIZE_UNIT_CELLS,
+)
 
 pytestmark = pytest.mark.skipif(not native.available(), reason=f"the C decoder is not built ({native.LIBRARY}: "
                                                                f"make install builds it)")
@@ -26,7 +34,7 @@ TOLERANCE_PX = 1e-3
 def both(maps: np.ndarray, config: DecodeConfig, heights: np.ndarray | None, weak_above: float | None):
     """Both decoders' people, or both refusals' messages (one raising and the other not fails)."""
     outcomes = []
-    for decoder in (decode, native.decode):
+    for decoder in (decode_readings, native.decode_readings):
         try:
             outcomes.append(decoder(maps, config, heights, weak_above))
         except ValueError as error:
@@ -42,7 +50,7 @@ def assert_same(maps: np.ndarray, config: DecodeConfig | None = None, heights: n
         return 0
     assert len(ours) == len(reference)
     for a, b in zip(reference, ours, strict=True):
-        assert a.score == b.score and a.weak == b.weak
+        assert a.score == b.score and a.weak == b.weak and a.head_found == b.head_found
         np.testing.assert_allclose(b.centre, a.centre, rtol=0, atol=TOLERANCE_PX)
         np.testing.assert_allclose(b.box, a.box, rtol=0, atol=TOLERANCE_PX)
         np.testing.assert_allclose(b.keypoints[:, :2], a.keypoints[:, :2], rtol=0, atol=TOLERANCE_PX)
@@ -69,6 +77,10 @@ def blobs(rng: np.random.Generator, channels: int, height: int, width: int, peop
         if channels >= CENTRE_OFFSET_CHANNELS.stop:
             maps[27] += ((x - columns) / size * (maps[18] > 0.5)).astype(np.float32)
             maps[28] += ((y - rows) / size * (maps[18] > 0.5)).astype(np.float32)
+        if channels == HEAD_CHANNELS:  # a head 0.4 heights above the centre, the person's log size over them
+            head = np.exp(-((columns - x) ** 2 + (rows - y + 0.4 * size) ** 2) / (2 * (0.05 * size + 0.75) ** 2))
+            maps[HEAD_CHANNEL] = np.maximum(maps[HEAD_CHANNEL], rng.uniform(0.4, 1.0) * head)
+            maps[SIZE_CHANNEL] = np.where(maps[18] > 0.5, np.log(size / SIZE_UNIT_CELLS), maps[SIZE_CHANNEL])
     return maps
 
 

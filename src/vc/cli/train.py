@@ -55,6 +55,7 @@ def _parser() -> argparse.ArgumentParser:
                         help=TrainSettings.model_fields["centre_offsets"].description)
     parser.add_argument("--fine-centre", action="store_true",
                         help=TrainSettings.model_fields["fine_centre"].description)
+    parser.add_argument("--head-map", action="store_true", help=TrainSettings.model_fields["head_map"].description)
     parser.add_argument("--crop-pose", action=argparse.BooleanOptionalAction, default=defaults.crop_pose,
                         help=TrainSettings.model_fields["crop_pose"].description + f" (default {defaults.crop_pose})")
     parser.add_argument("--offset-weight", type=positive_float, default=defaults.centre_offset_weight,
@@ -134,6 +135,7 @@ def main(argv: list[str] | None = None) -> int:
     settings = train_settings(arch=args.arch, width=args.width, sb_units=args.sb_units, steps=args.steps,
                               batch_size=args.batch_size, seed=args.seed, workers=args.workers,
                               centre_offsets=args.centre_offsets, fine_centre=args.fine_centre,
+                              head_map=args.head_map,
                               crop_pose=args.crop_pose, centre_offset_weight=args.offset_weight)
     job = prepare_training(args.dataset, settings, args.region)
     report_job(job)

@@ -25,6 +25,18 @@
    confident and agree with the expected height of a person at that image position (the region's camera knows
    it; ``expected_height_px``), else that expected height centred on the centre peak (the point half the stature
    above the feet); its width spans the person's confident keypoints and mask cells.
+5. From a network with a head map (:data:`~vc.deploy.heatmaps.HEAD_CHANNELS`), steps 1-4 run a second time on the
+   heads: the head map's peaks, none merged (heads stand apart where centres blur), each a person whose centre is
+   the head plus the centre offset there times the size map's height; in step 1b each cell's offset is scaled by
+   the size map's height there, and the box's top and bottom are the size map's height centred on the centre.
+   A strong person of this reading is added where their box overlaps every strong person of the first that the
+   caller keeps (a region: those standing in its owned area) by less than :data:`HEAD_UNION_IOU`
+   (:func:`with_heads_added`), and then dropped where their head (their box's top middle) lies within
+   :data:`SAME_HEAD_REACH` of another reported person's height of that person's head (:func:`one_head_each`: one
+   head, one person; the runtime applies it over the frame). Their mask cells are those the head reading gives
+   them: a cell may belong to a person of each reading, as to a strong person and a weak one (the tracker's
+   appearance reads them). People in a group whose centres make one peak are so found, each with their own box
+   (docs/decisions/0058-head-map.md).
 
 Coordinates are network-input pixels (pixel centres at integers) unless named ``*_cells``.
 """
@@ -32,19 +44,25 @@ Coordinates are network-input pixels (pixel centres at integers) unless named ``
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, replace
 
 import numpy as np
 
+from vc.deploy.boxes import box_iou
 from vc.deploy.heatmaps import (
     ANATOMICAL_CHANNELS,
     CENTRE_CHANNEL,
     CENTRE_OFFSET_CHANNELS,
     HANDEDNESS_CHANNELS,
+    HEAD_CHANNEL,
+    HEAD_CHANNELS,
     KEYPOINT_CHANNELS,
     LAYOUTS,
     MASK_CHANNEL,
     OFFSET_CHANNELS,
+    SIZE_CHANNEL,
+    SIZE_UNIT_CELLS,
     cells_to_input,
     swap_pairs,
 )
@@ -68,6 +86,12 @@ MERGED_PEAK_REACH = 0.5
 #: The lower of a person's two ankles, measured likewise (0.439 bare): the planted foot's, which the box's bottom
 #: follows (the other foot swings up to 0.1 heights higher).
 LOWER_ANKLE_OFFSET = 0.427
+#: Step 5 adds a person read from the heads whose box overlaps every person of the first reading by less than this:
+#: more, and it is one of them (docs/decisions/0058-head-map.md).
+HEAD_UNION_IOU = 0.5
+#: A person added from the heads whose head lies within this many of another person's heights of that person's head
+#: is that person again (step 5; docs/decisions/0058-head-map.md).
+SAME_HEAD_REACH = 0.1
 
 
 @dataclass(frozen=True)
@@ -163,6 +187,7 @@ class DecodedPerson:
     # decoder ordered the pairs by their signs.
     pair_handedness: np.ndarray
     weak: bool = False  # below the centre threshold, decoded only when asked for (``decode``'s ``weak_above``)
+    head_found: bool = False  # added by step 5, read from the head map
 
 
 def _refine_many(heatmaps: np.ndarray, rows: np.ndarray, columns: np.ndarray,
@@ -287,16 +312,67 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
            expected_height_px: np.ndarray | None = None, weak_above: float | None = None,
            prior: UprightPrior = UPRIGHT_PRIOR) -> list[DecodedPerson]:
     """People in one sample's heat maps (C, h, w), C one of the :data:`~vc.deploy.heatmaps.LAYOUTS`: with or
-    without centre offsets, with or without the fine centre map (which it does not read).
+    without centre offsets, with or without the fine centre map (which it does not read), with or without the head
+    and size maps (step 5, every person of the first reading kept).
     ``expected_height_px`` (h, w): the pixel height of a person whose centre is at each cell, from the region's
     camera; None falls back to ``config.default_height_px``.
 
     ``weak_above`` (below ``config.centre_threshold``): the centre peaks down to it are decoded too, as ``weak``
     people (for a tracker: :mod:`vc.deploy.tracking`). They take no mask cells or keypoint peaks from the others,
     which come out as they would without them."""
+    readings = decode_readings(heatmaps, config, expected_height_px, weak_above, prior)
+    return one_head_each(with_heads_added(readings, config.max_people))
+
+
+def decode_readings(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
+                    expected_height_px: np.ndarray | None = None, weak_above: float | None = None,
+                    prior: UprightPrior = UPRIGHT_PRIOR) -> list[DecodedPerson]:
+    """:func:`decode`'s people before step 5's rules: the first reading's, then (from a network with a head map)
+    every strong person read from the heads, flagged ``head_found``. Which of these step 5 adds depends on which of
+    the first reading a caller keeps (a region keeps the people standing in its owned area,
+    :mod:`vc.deploy.runtime`): :func:`with_heads_added`, then :func:`one_head_each` over what is reported."""
+    check_decodable(heatmaps, expected_height_px)
+    people = _read(heatmaps, config, expected_height_px, weak_above, prior, from_heads=False)
+    if heatmaps.shape[0] == HEAD_CHANNELS:
+        people += [replace(person, head_found=True)
+                   for person in _read(heatmaps, config, expected_height_px, weak_above, prior, from_heads=True)
+                   if not person.weak]
+    return people
+
+
+def with_heads_added(people: list, max_people: int) -> list:
+    """Step 5's union over ``people`` (:func:`decode_readings`' or the runtime's, anything with ``box``, ``weak``
+    and ``head_found``): those of the first reading, and those read from the heads whose box overlaps every strong
+    one of the first by less than :data:`HEAD_UNION_IOU`, at most ``max_people`` in all."""
+    first = [person for person in people if not person.head_found]
+    boxes = np.array([person.box for person in first if not person.weak]).reshape(-1, 4)
+    added = [person for person in people if person.head_found
+             and (not len(boxes) or box_iou(person.box[None], boxes).max() < HEAD_UNION_IOU)]
+    return first + added[:max(max_people - len(first), 0)]
+
+
+def one_head_each(people: list, reach: float = SAME_HEAD_REACH) -> list:
+    """``people`` (anything with ``box``, ``weak`` and ``head_found``) without those read from the heads whose head
+    (their box's top middle) lies within ``reach`` of another strong person's height of that person's head,
+    strictly: one head, one person. Weak people (a tracker's) neither count nor go."""
+    if not any(person.head_found for person in people):
+        return people
+    strong = [person for person in people if not person.weak]
+    boxes = np.array([person.box for person in strong], np.float64).reshape(-1, 4)
+    heads = np.column_stack([(boxes[:, 0] + boxes[:, 2]) / 2, boxes[:, 1]])
+    distances = np.hypot(heads[:, None, 0] - heads[None, :, 0], heads[:, None, 1] - heads[None, :, 1])  # (N, N)
+    near = distances < reach * (boxes[:, 3] - boxes[:, 1])[None]  # [i, j]: i's head within reach of j's height
+    np.fill_diagonal(near, False)
+    dropped = {id(person) for person, again in zip(strong, near.any(axis=1), strict=True)
+               if again and person.head_found}
+    return [person for person in people if id(person) not in dropped]
+
+
+def _read(heatmaps: np.ndarray, config: DecodeConfig, expected_height_px: np.ndarray | None,
+          weak_above: float | None, prior: UprightPrior, from_heads: bool) -> list[DecodedPerson]:
+    """Steps 1-4 on the centre map's peaks, or (``from_heads``, step 5) on the head map's."""
     stride = config.stride
     channels, height, width = heatmaps.shape
-    check_decodable(heatmaps, expected_height_px)
 
     def heights_px_at(xy_cells: np.ndarray) -> np.ndarray:
         if expected_height_px is None:
@@ -308,7 +384,7 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     # a Python float: numpy compares float32 maps with it in float32 (as the C decoder does), with a numpy scalar
     # in float64
     floor = float(config.centre_threshold if weak_above is None else min(weak_above, config.centre_threshold))
-    centre_map = heatmaps[CENTRE_CHANNEL]
+    centre_map = heatmaps[HEAD_CHANNEL if from_heads else CENTRE_CHANNEL]
     peaks = find_peaks(centre_map, floor, config.max_people)
 
     def centre_value_at(centre_cells: np.ndarray) -> float:
@@ -316,8 +392,13 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
         return float(centre_map[row, column])
 
     centres_cells = np.array([centre for _, centre in peaks]).reshape(-1, 2)
-    keep = _separated(centres_cells, heights_px_at(centres_cells) / stride, config.min_centre_separation)
-    peaks, centres_cells = [peaks[i] for i in keep], centres_cells[keep]
+    if from_heads:  # heads stand apart: none is merged; each is moved to its person's centre
+        centres_cells, sized_cells = _centres_from_heads(heatmaps, centres_cells, stride)
+        peaks = [(score, centre) for (score, _), centre in zip(peaks, centres_cells, strict=True)]
+    else:
+        keep = _separated(centres_cells, heights_px_at(centres_cells) / stride, config.min_centre_separation)
+        peaks, centres_cells = [peaks[i] for i in keep], centres_cells[keep]
+        sized_cells = np.full(len(peaks), np.nan)
 
     mask = heatmaps[MASK_CHANNEL]
     mask_rows, mask_columns = np.nonzero(mask > config.mask_threshold)
@@ -325,16 +406,20 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
     voted = np.column_stack([mask_columns, mask_rows]).astype(np.float64)
     if channels >= OFFSET_CHANNELS and len(voted):
         offsets = heatmaps[CENTRE_OFFSET_CHANNELS][:, mask_rows, mask_columns].T  # (M, 2) in person heights
-        voted += offsets * (heights_px_at(voted) / stride)[:, None]
+        scale = (_size_cells(heatmaps, mask_rows, mask_columns, stride) if from_heads
+                 else heights_px_at(voted) / stride)
+        voted += offsets * scale[:, None]
         moved, added = _vote_centres(voted, mask[mask_rows, mask_columns], heights_px_at(voted) / stride,
                                      (height, width), centres_cells, heights_px_at(centres_cells) / stride, config)
         for index, centre in moved.items():
             peaks[index], centres_cells[index] = (peaks[index][0], centre), centre
+            sized_cells[index] = np.nan  # the votes' person: the decoder's box
         for centre in added:
             score = centre_value_at(centre)
             if score >= floor and len(peaks) < config.max_people:
                 peaks.append((score, centre))
                 centres_cells = np.vstack([centres_cells, centre])
+                sized_cells = np.append(sized_cells, np.nan)
     if not peaks:
         return []
     heights_px = heights_px_at(centres_cells)
@@ -372,6 +457,9 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
              == np.arange(len(peaks))[:, None]) & within_reach
     centres = cells_to_input(centres_cells, stride)
     boxes = _boxes(centres, heights_px, keypoints, owned, mask_columns, config, prior)
+    sized = np.isfinite(sized_cells)  # step 5: the size map's height, centred on the centre
+    boxes[sized, 1] = centres[sized, 1] - sized_cells[sized] * stride / 2
+    boxes[sized, 3] = centres[sized, 1] + sized_cells[sized] * stride / 2
     people = []
     for index, (score, _) in enumerate(peaks):
         mask_cells = np.zeros((height, width), bool)
@@ -380,6 +468,28 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig = DecodeConfig(),
                                     mask_cells=mask_cells, pair_handedness=pair_handedness[index],
                                     weak=not strong[index]))
     return people
+
+
+
+def _size_cells(heatmaps: np.ndarray, rows: np.ndarray, columns: np.ndarray, stride: int) -> np.ndarray:
+    """The size map's person heights (cells) at these cells, at most :data:`MAX_EXPECTED_HEIGHT_PX` (a taller one is
+    as broken as a camera model giving it, and would overflow)."""
+    largest = math.log(MAX_EXPECTED_HEIGHT_PX / stride / SIZE_UNIT_CELLS)  # libm's log, as the C decoder's
+    return SIZE_UNIT_CELLS * np.exp(np.minimum(heatmaps[SIZE_CHANNEL, rows, columns].astype(np.float64), largest))
+
+
+def _centres_from_heads(heatmaps: np.ndarray, heads_cells: np.ndarray, stride: int) -> tuple[np.ndarray, np.ndarray]:
+    """Step 5: the centres (cells) of the people whose heads are at ``heads_cells`` (N, 2), the head plus the centre
+    offset at its cell times the size map's height there, kept on the map; and those heights (N,)."""
+    _, height, width = heatmaps.shape
+    rows = np.minimum(np.maximum(np.round(heads_cells[:, 1]).astype(int), 0), height - 1)
+    columns = np.minimum(np.maximum(np.round(heads_cells[:, 0]).astype(int), 0), width - 1)
+    sizes = _size_cells(heatmaps, rows, columns, stride)
+    offsets = heatmaps[CENTRE_OFFSET_CHANNELS][:, rows, columns].T.astype(np.float64)  # (N, 2) person heights
+    centres = heads_cells + offsets * sizes[:, None]
+    centres[:, 0] = np.minimum(np.maximum(centres[:, 0], 0.0), width - 1)
+    centres[:, 1] = np.minimum(np.maximum(centres[:, 1], 0.0), height - 1)
+    return centres, sizes
 
 
 def _keypoints(keypoint_maps: np.ndarray, centres_cells: np.ndarray, heights_cells: np.ndarray,

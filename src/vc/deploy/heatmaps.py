@@ -5,7 +5,8 @@ can never disagree. Channels (:data:`CHANNEL_NAMES`): the person centre; the 17 
 except that each left/right pair (:data:`PAIRS`) is in image order, its first map holding whichever member lies
 further left in the image; the segmentation mask; one handedness map per pair, +1 over a person's pixels where
 the pair's image-left member is the person's left one, -1 where it is the right one; in networks trained with
-them, the two centre-offset maps (:data:`CENTRE_OFFSET_CHANNELS`).
+them, the two centre-offset maps (:data:`CENTRE_OFFSET_CHANNELS`), the fine centre map
+(:data:`FINE_CENTRE_CHANNELS`) and the head and size maps (:data:`HEAD_CHANNEL`, :data:`SIZE_CHANNEL`).
 
 Why image order: a wrist looks like a wrist, so which wrist it is cannot be seen where it is. Asked for anatomical
 maps, the network hedges and puts both limbs in both maps (on the demo scene 99 % of the pairs that lie apart
@@ -56,9 +57,20 @@ OFFSET_CHANNELS = CENTRE_OFFSET_CHANNELS.stop
 FINE_FACTOR = 2
 FINE_CENTRE_CHANNELS = slice(OFFSET_CHANNELS, OFFSET_CHANNELS + FINE_FACTOR**2)
 FINE_CHANNELS = FINE_CENTRE_CHANNELS.stop
+#: Two maps after the fine centre map, in networks trained to emit them: a Gaussian at each person's head (the
+#: middle of their nose, eyes and ears), and over each person's pixels the log of their height in
+#: :data:`SIZE_UNIT_CELLS` cells. People in a group whose centres blur into one peak keep their heads apart; at a
+#: head, the centre offset times the size map's height is the way to the person's centre, so the decoder reads a
+#: second set of people from the heads (docs/decisions/0058-head-map.md).
+HEAD_CHANNEL = FINE_CHANNELS
+SIZE_CHANNEL = FINE_CHANNELS + 1
+HEAD_CHANNELS = SIZE_CHANNEL + 1
+#: The size map's unit, in heat-map cells: it holds log(height / SIZE_UNIT_CELLS), about 0 for PETS09's middle
+#: distance (80 px at stride 4) and within +-2 for people from 15 to 600 px.
+SIZE_UNIT_CELLS = 20.0
 #: Every layout a network emits, by its channel count: image-ordered pairs with handedness, those with the centre
-#: offsets, and those with a fine centre map too.
-LAYOUTS = (HEATMAP_CHANNELS, OFFSET_CHANNELS, FINE_CHANNELS)
+#: offsets, those with a fine centre map too, and those with the head and size maps too.
+LAYOUTS = (HEATMAP_CHANNELS, OFFSET_CHANNELS, FINE_CHANNELS, HEAD_CHANNELS)
 
 
 def swap_pairs(keypoints: np.ndarray, swapped) -> np.ndarray:
@@ -82,8 +94,9 @@ def channel_names(channels: int = HEATMAP_CHANNELS) -> tuple[str, ...]:
     handedness = [COCO_KEYPOINTS[left].removeprefix("left_") + "_handedness" for left, _ in PAIRS]
     offsets = ("centre_offset_x", "centre_offset_y") if channels >= OFFSET_CHANNELS else ()
     fine = tuple(f"fine_centre_{dy}{dx}" for dy in range(FINE_FACTOR) for dx in range(FINE_FACTOR)
-                 ) if channels == FINE_CHANNELS else ()
-    return ("centre", *slots, "mask", *handedness, *offsets, *fine)
+                 ) if channels >= FINE_CHANNELS else ()
+    head = ("head", f"log_height_{SIZE_UNIT_CELLS:g}_cells") if channels == HEAD_CHANNELS else ()
+    return ("centre", *slots, "mask", *handedness, *offsets, *fine, *head)
 
 
 def fine_centre_map(maps: np.ndarray) -> np.ndarray:

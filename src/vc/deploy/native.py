@@ -21,7 +21,16 @@ from pathlib import Path
 
 import numpy as np
 
-from vc.deploy.decode import UPRIGHT_PRIOR, DecodeConfig, DecodedPerson, UprightPrior, check_decodable
+from vc.deploy.decode import (
+    UPRIGHT_PRIOR,
+    DecodeConfig,
+    DecodedPerson,
+    UprightPrior,
+    check_decodable,
+    one_head_each,
+    with_heads_added,
+)
+from vc.deploy.heatmaps import HEAD_CHANNELS
 from vc.errors import InputError
 from vc.keypoints import COCO_KEYPOINTS
 
@@ -55,7 +64,7 @@ class _Config(ctypes.Structure):
 class _Person(ctypes.Structure):
     _fields_ = [("score", ctypes.c_double), ("centre", ctypes.c_double * 2),
                 ("keypoints", ctypes.c_double * (_KEYPOINTS * 3)), ("box", ctypes.c_double * 4),
-                ("pair_handedness", ctypes.c_float * _PAIRS), ("weak", ctypes.c_int)]
+                ("pair_handedness", ctypes.c_float * _PAIRS), ("weak", ctypes.c_int), ("head_found", ctypes.c_int)]
 
 
 class _Region(ctypes.Structure):
@@ -102,7 +111,7 @@ def _library(path: Path) -> ctypes.CDLL | None:
     library.vc_decode.restype = ctypes.c_int
     library.vc_decode.argtypes = [ctypes.c_void_p, ctypes.c_int, ctypes.c_int, ctypes.c_int, ctypes.POINTER(_Config),
                                   ctypes.c_void_p, ctypes.c_double, ctypes.POINTER(_Person), ctypes.c_int,
-                                  ctypes.POINTER(ctypes.c_int), ctypes.c_void_p, ctypes.c_void_p]
+                                  ctypes.POINTER(ctypes.c_int), ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p]
     library.vc_bundle_read.restype = ctypes.c_int
     library.vc_bundle_read.argtypes = [ctypes.c_char_p, ctypes.POINTER(_Bundle), ctypes.POINTER(ctypes.c_int)]
     library.vc_bundle_free.restype = None
@@ -146,9 +155,18 @@ def _config(config: DecodeConfig, prior: UprightPrior) -> _Config:
 def decode(heatmaps: np.ndarray, config: DecodeConfig | None = None,
            expected_height_px: np.ndarray | None = None, weak_above: float | None = None,
            prior: UprightPrior = UPRIGHT_PRIOR) -> list[DecodedPerson]:
-    """:func:`vc.deploy.decode.decode` in C: the same arguments, the same people (float32 heat maps; others are
-    converted to float32 first) and the same refusals. Raises :class:`DecoderNotBuilt` where the library is not
-    built."""
+    """:func:`vc.deploy.decode.decode` with the C decoder's readings: the same arguments, the same people (float32
+    heat maps; others are converted to float32 first) and the same refusals. Raises :class:`DecoderNotBuilt` where
+    the library is not built."""
+    config = DecodeConfig() if config is None else config
+    readings = decode_readings(heatmaps, config, expected_height_px, weak_above, prior)
+    return one_head_each(with_heads_added(readings, config.max_people))
+
+
+def decode_readings(heatmaps: np.ndarray, config: DecodeConfig | None = None,
+                    expected_height_px: np.ndarray | None = None, weak_above: float | None = None,
+                    prior: UprightPrior = UPRIGHT_PRIOR) -> list[DecodedPerson]:
+    """:func:`vc.deploy.decode.decode_readings` in C (as :func:`decode`)."""
     config = DecodeConfig() if config is None else config
     library = _library(library_path())
     if library is None:
@@ -160,27 +178,29 @@ def decode(heatmaps: np.ndarray, config: DecodeConfig | None = None,
     heights = None if expected_height_px is None else np.ascontiguousarray(expected_height_px, np.float32)
     if heights is not None and heights.shape != (height, width):
         check_decodable(maps, heights)  # raises, naming the shapes
-    capacity = max(config.max_people, 1)
+    capacity = max(config.max_people * (2 if channels == HEAD_CHANNELS else 1), 1)
     people = (_Person * capacity)()
     count = ctypes.c_int(0)
     strong_owner = np.empty((height, width), np.int32)
     weak_owner = np.empty((height, width), np.int32)
+    head_owner = np.empty((height, width), np.int32)
     status = library.vc_decode(maps.ctypes.data, channels, height, width, ctypes.byref(_config(config, prior)),
                                None if heights is None else heights.ctypes.data,
                                float("nan") if weak_above is None else float(weak_above), people, capacity,
-                               ctypes.byref(count), strong_owner.ctypes.data, weak_owner.ctypes.data)
+                               ctypes.byref(count), strong_owner.ctypes.data, weak_owner.ctypes.data,
+                               head_owner.ctypes.data)
     if status != 0:
         check_decodable(maps, heights)  # the numpy decoder's own words for a refusal both make
         raise ValueError(f"the C decoder refused the heat maps: {library.vc_status_message(status).decode()}")
     decoded = []
     for index in range(count.value):
         person = people[index]
-        owner = weak_owner if person.weak else strong_owner
+        owner = head_owner if person.head_found else weak_owner if person.weak else strong_owner
         decoded.append(DecodedPerson(
             score=person.score, centre=np.array(person.centre[:]),
             keypoints=np.array(person.keypoints[:]).reshape(_KEYPOINTS, 3), box=np.array(person.box[:]),
             mask_cells=owner == index, pair_handedness=np.array(person.pair_handedness[:], np.float32),
-            weak=bool(person.weak)))
+            weak=bool(person.weak), head_found=bool(person.head_found)))
     return decoded
 
 

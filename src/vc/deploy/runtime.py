@@ -8,7 +8,8 @@ person whose feet it puts just across the seam, in a neighbour's area within :da
 heights of its own: otherwise a person the neighbour does not find is lost by both. A person standing on the seam
 can so be kept twice, once by each region (PETS09 frame 1: one walker's feet at y 319 in r1 and 323 in r2, boxes
 at IoU 0.88). Of two people of different regions overlapping more than :data:`SEAM_DUPLICATE_IOU` one is dropped:
-the one kept across a seam, else the weaker.
+the one kept across a seam, else the weaker. A person a region read from its head map (the decoder's step 5) whose
+head is another reported person's is then dropped, as the decoder drops them within a region (:func:`one_head_each`).
 
 With each frame's people, its scene fitness is measured against the background the bundle carries
 (:mod:`vc.deploy.fitness`; ``unknown`` for a bundle without one). A ``covered`` frame (black, uniform, a covered lens,
@@ -54,7 +55,15 @@ from vc.deploy.areas import ImageArea
 from vc.deploy.boxes import box_iou, foot_points
 from vc.deploy.bundle import NO_REFERENCE, Bundle, RegionEntry, load_bundle
 from vc.deploy.crop_pose import CropPoseReader, with_crop_keypoints, worth_reading
-from vc.deploy.decode import UPRIGHT_PRIOR, DecodeConfig, DecodedPerson, UprightPrior, decode
+from vc.deploy.decode import (
+    UPRIGHT_PRIOR,
+    DecodeConfig,
+    DecodedPerson,
+    UprightPrior,
+    decode_readings,
+    one_head_each,
+    with_heads_added,
+)
 from vc.deploy.engines import DEFAULT_ENGINE, checked_engine, graph_session
 from vc.deploy.exposure import BROUGHT_BACK_AGREEMENT, KEPT_CORRECTION_STOPS, correction_stops, exposed
 from vc.deploy.facing import FacingReader, face_ahead, ordered_by_facing
@@ -110,6 +119,7 @@ class Person:
     # the networks' handedness averaged over the pairs, kept when the facing model ordered them: the confidence a
     # tracker weighs against an unclear walk (vc.deploy.tracking; docs/decisions/0027-facing-from-the-crop.md)
     network_handedness: float | None = None
+    head_found: bool = False  # read from the region network's head map (vc.deploy.decode, step 5)
 
     def frame_mask(self, frame_size: tuple[int, int]) -> np.ndarray:
         """The mask as an (H, W) bool array over a frame of ``frame_size`` (width, height)."""
@@ -176,7 +186,7 @@ class RegionRunner:
         # the bundle's facing and keypoint models, a session per region: the regions run in threads of their own
         self.facing = None if facing is None else FacingReader(facing, threads)
         self.crop_pose = None if crop_pose is None else CropPoseReader(crop_pose, threads)
-        self.decode = native.decode if checked_decoder(decoder) == "c" else decode
+        self.decode = native.decode_readings if checked_decoder(decoder) == "c" else decode_readings
         self.owned_area = ImageArea(entry.owned_image_area)
         self.neighbour_areas = tuple(ImageArea(area) for area in neighbour_areas)  # the other regions' owned areas
         self.weak_people_above = weak_people_above
@@ -237,9 +247,10 @@ class RegionRunner:
                   seam_tolerance: float = SEAM_FOOT_TOLERANCE, prior: UprightPrior = UPRIGHT_PRIOR) -> list[Person]:
         """The people this region owns in its heat maps, decoded with the bundle's settings or ``config`` (and
         ``prior``), kept across a seam within ``seam_tolerance`` (:func:`just_across_seam`); with
-        ``weak_people_above``, also the weaker centre peaks down to it, flagged ``weak``."""
-        decoded = self.decode(heatmaps, config or self.entry.decode, self.entry.expected_height_px,
-                              self.weak_people_above, prior)
+        ``weak_people_above``, also the weaker centre peaks down to it, flagged ``weak``. From a network with a head
+        map, the people read from the heads are added to those this region keeps (the decoder's step 5)."""
+        config = config or self.entry.decode
+        decoded = self.decode(heatmaps, config, self.entry.expected_height_px, self.weak_people_above, prior)
         if not decoded:
             return []
         boxes = self.to_frame(np.array([person.box for person in decoded]).reshape(-1, 2)).reshape(-1, 4)
@@ -250,15 +261,16 @@ class RegionRunner:
         if len(outside):
             across[outside] = just_across_seam(feet[outside], boxes[outside, 3] - boxes[outside, 1],
                                                self.owned_area, self.neighbour_areas, seam_tolerance)
-        return [self._person(person, box, bool(is_across)) for person, box, is_inside, is_across
-                in zip(decoded, boxes, inside, across, strict=True) if is_inside or is_across]
+        return with_heads_added([self._person(person, box, bool(is_across)) for person, box, is_inside, is_across
+                                 in zip(decoded, boxes, inside, across, strict=True) if is_inside or is_across],
+                                config.max_people)
 
     def _person(self, person: DecodedPerson, box: np.ndarray, across_seam: bool) -> Person:
         keypoints = person.keypoints.copy()
         keypoints[:, :2] = self.to_frame(keypoints[:, :2])
         mask, origin = self._frame_mask(person.mask_cells)
         return Person(self.entry.name, person.score, box, keypoints, mask, origin, person.pair_handedness,
-                      weak=person.weak, across_seam=across_seam)
+                      weak=person.weak, across_seam=across_seam, head_found=person.head_found)
 
     def _cells_of_crop_pixels(self, cells_shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
         """The heat-map row of each crop pixel row and column of each crop pixel column (the cell their centres
@@ -444,7 +456,7 @@ class Runtime:
         people = sorted((person for found in per_region for person in found), key=lambda person: -person.score)
         result = FrameResult([within_frame(moved_by(person, self.registration, self.bundle.frame_size),
                                            self.bundle.frame_size)
-                              for person in without_seam_duplicates(people)], fitness,
+                              for person in one_head_each(without_seam_duplicates(people))], fitness,
                              network_s=sum(runner.last_seconds[0] for runner in self.runners),
                              decode_s=sum(runner.last_seconds[1] for runner in self.runners))
         result.reported(result.people)  # flagged when unfit
@@ -573,3 +585,4 @@ def without_seam_duplicates(people: list[Person], iou: float = SEAM_DUPLICATE_IO
         kept.append(person)
     kept_ids = {id(person) for person in kept}
     return [person for person in people if id(person) in kept_ids]
+

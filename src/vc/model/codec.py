@@ -15,6 +15,10 @@ network, as mmpose keeps its codecs).
   mask, which is 0 where they mean nothing (:mod:`vc.model.loss`).
 * Fine centre (with ``fine_centre``, on top of the offsets): the centre Gaussians again, same sigma in input pixels,
   on a grid of twice the resolution, stored space-to-depth (:data:`vc.deploy.heatmaps.FINE_CENTRE_CHANNELS`).
+* Head and size (with ``head_map``, on top of the fine centre): a Gaussian at each person's head (:func:`head_point`),
+  sigma ``head_sigma`` of their height, and over each cell that people cover, log(height / SIZE_UNIT_CELLS) of the
+  person covering most of it (:data:`vc.deploy.heatmaps.HEAD_CHANNEL`, :data:`~vc.deploy.heatmaps.SIZE_CHANNEL`).
+  The loss weighs the size by the mask, as the offsets.
 
 Several people combine by maximum (Gaussians) so that neighbours do not merge into one peak. Decoding lives in
 :mod:`vc.deploy.decode` and uses the same cell geometry (:mod:`vc.deploy.heatmaps`).
@@ -34,19 +38,27 @@ from vc.deploy.heatmaps import (
     FINE_CHANNELS,
     FINE_FACTOR,
     HANDEDNESS_CHANNELS,
+    HEAD_CHANNEL,
+    HEAD_CHANNELS,
     HEATMAP_CHANNELS,
     KEYPOINT_CHANNELS,
     MASK_CHANNEL,
     OFFSET_CHANNELS,
+    SIZE_CHANNEL,
+    SIZE_UNIT_CELLS,
     cells_to_fine,
     cells_to_input,
     fine_centre_channels,
     input_to_cells,
     swap_pairs,
 )
+from vc.keypoints import COCO_KEYPOINTS
 
 #: Gaussians are drawn out to this many sigmas (beyond, exp(-x^2/2) < 1.2e-4).
 TRUNCATE_SIGMAS = 4.25
+#: The keypoints whose middle is a person's head: nose, eyes and ears.
+FACE_KEYPOINTS = tuple(COCO_KEYPOINTS.index(name) for name in
+                       ("nose", "left_eye", "right_eye", "left_ear", "right_ear"))
 
 
 @dataclass(frozen=True)
@@ -62,15 +74,23 @@ class CodecConfig:
     centre_offsets: bool = False
     # Also draw the centre map at twice the resolution (vc.deploy.heatmaps.FINE_CENTRE_CHANNELS; with the offsets).
     fine_centre: bool = False
+    # Also draw the head and size maps (vc.deploy.heatmaps.HEAD_CHANNEL, SIZE_CHANNEL; with the fine centre map).
+    head_map: bool = False
+    # The head Gaussian's sigma, as a fraction of the person's height: a head is about an eighth of it, and heads
+    # in a group stand about a tenth of a height apart.
+    head_sigma: float = 0.05
 
     def __post_init__(self) -> None:
         if self.fine_centre and not self.centre_offsets:
             raise ValueError("the fine centre map comes after the centre offsets in the layout: set centre_offsets")
+        if self.head_map and not self.fine_centre:
+            raise ValueError("the head and size maps come after the fine centre map in the layout: set fine_centre")
 
     @property
     def channels(self) -> int:
         """The number of maps :func:`encode` draws: the network's output layout."""
-        return FINE_CHANNELS if self.fine_centre else OFFSET_CHANNELS if self.centre_offsets else HEATMAP_CHANNELS
+        return (HEAD_CHANNELS if self.head_map else FINE_CHANNELS if self.fine_centre
+                else OFFSET_CHANNELS if self.centre_offsets else HEATMAP_CHANNELS)
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -102,6 +122,14 @@ def person_height_px(annotation: dict) -> float:
     return float(annotation["amodal_bbox"][3])
 
 
+def head_point(annotation: dict) -> np.ndarray:
+    """(x, y) input px: the middle of the person's labelled nose, eyes and ears, seen or hidden (the head is where
+    it is whether or not a neighbour covers it); the centre where none is labelled."""
+    face = np.reshape(annotation["keypoints"], (-1, 3))[list(FACE_KEYPOINTS)]
+    labelled = face[face[:, 2] > 0]
+    return labelled[:, :2].mean(axis=0) if len(labelled) else np.array(annotation["center"], float)
+
+
 def encode(annotations: list[dict], instances: np.ndarray, config: CodecConfig = CodecConfig()) -> np.ndarray:
     """Heat maps (config.channels, H/stride, W/stride) float32 for one sample: its annotations and (H, W)
     instance mask."""
@@ -121,6 +149,9 @@ def encode(annotations: list[dict], instances: np.ndarray, config: CodecConfig =
             if fine is not None:
                 _draw_gaussians(fine, np.array([0]), cells_to_fine(input_to_cells([annotation["center"]], stride)),
                                 max(config.centre_sigma * size_cells * FINE_FACTOR, config.min_sigma_cells))
+            if config.head_map:
+                _draw_gaussians(heatmaps, np.array([HEAD_CHANNEL]), input_to_cells([head_point(annotation)], stride),
+                                max(config.head_sigma * size_cells, config.min_sigma_cells))
         sigma = max(config.keypoint_sigma * size_cells, config.min_sigma_cells)
         keypoints = np.asarray(annotation["keypoints"], np.float64).reshape(-1, 3)
         if annotation.get("left_is_image_left") is not None:
@@ -143,6 +174,8 @@ def encode(annotations: list[dict], instances: np.ndarray, config: CodecConfig =
         heatmaps[HANDEDNESS_CHANNELS] += coverages[id(annotation)][None] * sign[:, None, None]
     if config.centre_offsets:
         _draw_centre_offsets(heatmaps[CENTRE_OFFSET_CHANNELS], annotations, coverages, stride)
+    if config.head_map:
+        _draw_sizes(heatmaps[SIZE_CHANNEL], annotations, coverages, stride)
     if fine is not None:
         heatmaps[FINE_CENTRE_CHANNELS] = fine_centre_channels(fine[0])
     return heatmaps
@@ -164,6 +197,17 @@ def _draw_centre_offsets(offsets: np.ndarray, annotations: list[dict], coverages
     people = owner[rows, columns]
     offsets[0, rows, columns] = (centres[people, 0] - columns) / heights[people]
     offsets[1, rows, columns] = (centres[people, 1] - rows) / heights[people]
+
+
+def _draw_sizes(sizes: np.ndarray, annotations: list[dict], coverages: dict[int, np.ndarray], stride: int) -> None:
+    """Fill ``sizes`` (h, w): at each cell, log(height / SIZE_UNIT_CELLS) (cells) of the person who covers most of
+    it; 0 where nobody does (the loss does not weigh those cells)."""
+    if not annotations:
+        return
+    shares = np.stack([coverages[id(annotation)] for annotation in annotations])  # (N, h, w)
+    owner, owned = shares.argmax(axis=0), shares.max(axis=0) > 0
+    logs = np.log(np.array([person_height_px(annotation) / stride for annotation in annotations]) / SIZE_UNIT_CELLS)
+    sizes[owned] = logs[owner[owned]]
 
 
 def expected_height_map(camera: Camera, stride: int, height_m: float) -> np.ndarray:

@@ -6,7 +6,8 @@ cells on the border between two people, whose owner is a coin toss, do not domin
 centre map, alpha times its MSE too (its Gaussians are as wide in pixels as the coarse map's, so the two errors
 are of one size): the centre map then takes twice its share of the loss. Weighing the mean of the two instead
 kept more of the held-out renders' PCKh but less of the real frames, where pose and people are judged
-(docs/decisions/0010-fine-centre-map.md).
+(docs/decisions/0010-fine-centre-map.md). For networks with a head map, alpha times its MSE too (a person's second
+peak), and the size map's L1 weighed by the mask in the offsets' term (it scales the offsets at a head).
 
 Each term is a mean squared error over its heat-map pixels (the pose and handedness terms the mean over their
 maps; the offsets' term their mask-weighed absolute error, averaged likewise).
@@ -27,8 +28,11 @@ from vc.deploy.heatmaps import (
     FINE_CENTRE_CHANNELS,
     FINE_CHANNELS,
     HANDEDNESS_CHANNELS,
+    HEAD_CHANNEL,
+    HEAD_CHANNELS,
     KEYPOINT_CHANNELS,
     MASK_CHANNEL,
+    SIZE_CHANNEL,
 )
 
 
@@ -57,8 +61,9 @@ class LossWeights:
 
 def heatmap_terms(prediction: Tensor, targets: Tensor) -> dict[str, Tensor]:
     """The terms of one prediction (B, C, h, w) against its targets (same shape), unweighted: C one of the
-    layouts of :mod:`vc.deploy.heatmaps`, the ``centre_offsets`` term only where it has the offset maps and the
-    ``fine_centre`` term only where it has the fine centre map."""
+    layouts of :mod:`vc.deploy.heatmaps`, the ``centre_offsets`` term only where it has the offset maps, the
+    ``fine_centre`` term only where it has the fine centre map, and the ``head`` and ``size`` terms only where it
+    has the head and size maps."""
     if prediction.shape != targets.shape:
         raise ValueError(f"prediction {tuple(prediction.shape)} and targets {tuple(targets.shape)} differ in shape")
     squared = (prediction[:, :CENTRE_OFFSET_CHANNELS.start] - targets[:, :CENTRE_OFFSET_CHANNELS.start]).square()
@@ -69,8 +74,12 @@ def heatmap_terms(prediction: Tensor, targets: Tensor) -> dict[str, Tensor]:
     if prediction.shape[1] >= CENTRE_OFFSET_CHANNELS.stop:
         error = (prediction[:, CENTRE_OFFSET_CHANNELS] - targets[:, CENTRE_OFFSET_CHANNELS]).abs()
         terms["centre_offsets"] = (error * targets[:, MASK_CHANNEL, None]).mean()
-    if prediction.shape[1] == FINE_CHANNELS:
+    if prediction.shape[1] >= FINE_CHANNELS:
         terms["fine_centre"] = (prediction[:, FINE_CENTRE_CHANNELS] - targets[:, FINE_CENTRE_CHANNELS]).square().mean()
+    if prediction.shape[1] == HEAD_CHANNELS:
+        terms["head"] = (prediction[:, HEAD_CHANNEL] - targets[:, HEAD_CHANNEL]).square().mean()
+        terms["size"] = ((prediction[:, SIZE_CHANNEL] - targets[:, SIZE_CHANNEL]).abs()
+                         * targets[:, MASK_CHANNEL]).mean()
     return terms
 
 
@@ -84,10 +93,11 @@ def scene_pose_loss(outputs: dict[str, Tensor | list[Tensor]], targets: Tensor,
     final_terms: dict[str, Tensor] = {}
     for stage, prediction in enumerate([*outputs["beliefs"], outputs["heatmaps"]]):
         terms = heatmap_terms(prediction, targets)
-        total = total + (weights.detection * (terms["detection"] + terms.get("fine_centre", 0.0))
+        total = total + (weights.detection * (terms["detection"] + terms.get("fine_centre", 0.0)
+                                              + terms.get("head", 0.0))
                          + weights.pose * terms["pose"]
                          + weights.segmentation * terms["segmentation"] + weights.handedness * terms["handedness"]
-                         + weights.centre_offsets * terms.get("centre_offsets", 0.0))
+                         + weights.centre_offsets * (terms.get("centre_offsets", 0.0) + terms.get("size", 0.0)))
         if stage == len(outputs["beliefs"]):
             final_terms = terms
     return total, {name: float(value.detach()) for name, value in final_terms.items()}

@@ -30,7 +30,7 @@ from tqdm import tqdm
 from vc.calibration.camera import camera_from_dict
 from vc.cores import cpu_facts, usable_cores
 from vc.deploy.decode import DecodeConfig, RetiredSetting, stored_decode_fields
-from vc.deploy.heatmaps import FINE_CHANNELS, HEATMAP_CHANNELS, OFFSET_CHANNELS
+from vc.deploy.heatmaps import HEATMAP_CHANNELS
 from vc.errors import InputError, StageError
 from vc.evaluation.plots import plot_precision_recall, plot_training_curve
 from vc.io import atomic_path
@@ -98,7 +98,7 @@ class TrainConfig:
             believed = drawn if self.network.intermediate_supervision else self.network.belief_channels
             object.__setattr__(self, "network", replace(self.network, heatmap_channels=drawn,
                                                         belief_channels=believed))
-        elif drawn == HEATMAP_CHANNELS and self.network.heatmap_channels in (OFFSET_CHANNELS, FINE_CHANNELS):
+        elif drawn == HEATMAP_CHANNELS and self.network.heatmap_channels != HEATMAP_CHANNELS:
             raise ValueError(f"the network emits centre offsets (heatmap_channels {self.network.heatmap_channels}) "
                              "that the codec does not draw: set codec.centre_offsets")
         if self.steps < 1 or self.batch_size < 1:

@@ -80,6 +80,9 @@ class TrainSettings(_Section):
                                                  "centre_offsets): people one behind another, 1.5-2 heat-map cells "
                                                  "apart, are learned as two (on in the standard and full "
                                                  "budgets)")
+    head_map: bool = Field(False, description="also learn a map of people's heads and one of their heights (with "
+                                              "fine_centre): people in a group whose centres blur into one "
+                                              "peak are read again from their heads")
     camera_range: CameraRange | None = Field(CameraRange(), description="what every window varies over besides the "
                                              "scene's one look: exposure, white balance, night IR, gain noise, "
                                              "blur, compression (vc.model.camera_range; null: nothing)")
@@ -119,6 +122,13 @@ class TrainSettings(_Section):
             raise ValueError("the fine centre map comes with the centre offsets (set centre_offsets)")
         return fine
 
+    @field_validator("head_map")
+    @classmethod
+    def _head_map_needs_fine_centre(cls, head: bool, info: ValidationInfo) -> bool:
+        if head and not info.data.get("fine_centre", False):
+            raise ValueError("the head map comes with the fine centre map (set fine_centre)")
+        return head
+
     def train_config(self) -> TrainConfig:
         """The full training config (a width or SB count the network cannot take was refused when read)."""
         overrides = {key: value for key, value in (("width", self.width), ("sb_units", self.sb_units))
@@ -129,7 +139,7 @@ class TrainSettings(_Section):
         centre = {} if self.centre_sigma is None else centre_map_settings(self.centre_sigma)
         if self.centre_offsets:
             centre["codec"] = replace(centre.get("codec", CodecConfig()), centre_offsets=True,
-                                      fine_centre=self.fine_centre)
+                                      fine_centre=self.fine_centre, head_map=self.head_map)
             centre["loss"] = replace(centre.get("loss", LossWeights()), centre_offsets=self.centre_offset_weight)
         return TrainConfig(network=network, steps=self.steps, batch_size=self.batch_size, seed=self.seed,
                            bf16_autocast=bf16, channels_last=channels_last, camera_range=self.camera_range,

@@ -11,11 +11,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { CENTRE = 0, FIRST_KEYPOINT = 1, MASK = 18, FIRST_HANDEDNESS = 19, OFFSET_X = 27, OFFSET_Y = 28 };
+enum { CENTRE = 0, FIRST_KEYPOINT = 1, MASK = 18, FIRST_HANDEDNESS = 19, OFFSET_X = 27, OFFSET_Y = 28, HEAD = 33,
+       SIZE = 34 };
 static const int HEAD_KEYPOINTS[5] = {0, 1, 2, 3, 4};
 static const int ANKLE_KEYPOINTS[2] = {15, 16};
 static const double PERSON_AREA = 0.18;      /* decode.py's PERSON_AREA */
 static const double MERGED_PEAK_REACH = 0.5; /* decode.py's MERGED_PEAK_REACH */
+static const double SIZE_UNIT_CELLS = 20.0;  /* heatmaps.py's SIZE_UNIT_CELLS */
 
 /* ---- numpy's semantics where they differ from C's ---- */
 
@@ -205,6 +207,12 @@ static double height_px_at(const frame *f, double x, double y) {
     return (double)f->heights[(size_t)row * f->width + column];
 }
 
+/* decode.py's _size_cells: the size map's person height (cells) at cell c, at most VC_MAX_HEIGHT_PX. */
+static double size_cells(const frame *f, size_t c) {
+    double largest = log(VC_MAX_HEIGHT_PX / f->config->stride / SIZE_UNIT_CELLS);
+    return SIZE_UNIT_CELLS * exp(fmin((double)channel(f, SIZE)[c], largest));
+}
+
 /* ---- step 1b: the pixels' votes (decode.py's _vote_centres) ---- */
 
 /* The sum over the (2 radius + 1)^2 window around each cell of grid (rows x columns, zeros beyond its border), from
@@ -266,6 +274,7 @@ typedef struct {
 typedef struct {
     double *x, *y, *score;
     int count;
+    double *sized; /* step 5: each person's height from the size map (cells); NaN: the decoder's box */
 } centre_list;
 
 /* Step 1b. Peaks 0..peaks->count are the centre map's; moved ones get their votes' centre, and added ones are
@@ -384,7 +393,7 @@ static int vote_centres(const frame *f, const foreground *fg, centre_list *peaks
         }
     }
     for (int n = 0; n < n_peaks; ++n)
-        if (moved[n]) peaks->x[n] = moved_x[n], peaks->y[n] = moved_y[n];
+        if (moved[n]) peaks->x[n] = moved_x[n], peaks->y[n] = moved_y[n], peaks->sized[n] = NAN;
     status = VC_OK;
 done:
     free(moved_x), free(moved_y);
@@ -631,7 +640,7 @@ const char *vc_status_message(int status) {
     case VC_OK: return "ok";
     case VC_ERROR_ARGUMENT: return "invalid argument";
     case VC_ERROR_ANATOMICAL: return "heat maps in the retired layout of 19 maps (pairs in anatomical order)";
-    case VC_ERROR_LAYOUT: return "heat maps in none of the layouts of 27, 29 or 33 maps";
+    case VC_ERROR_LAYOUT: return "heat maps in none of the layouts of 27, 29, 33 or 35 maps";
     case VC_ERROR_NOT_FINITE: return "heat maps hold NaN or infinite values";
     case VC_ERROR_HEIGHTS: return "expected heights must be finite and within (0, 100000] px";
     case VC_ERROR_MEMORY: return "out of memory";
@@ -655,33 +664,15 @@ static int separated(const double *x, const double *y, const double *heights_cel
     return kept_count;
 }
 
-int vc_decode(const float *heatmaps, int channels, int height, int width, const vc_decode_config *config,
-              const float *expected_height_px, double weak_above, vc_person *people, int capacity, int *count,
-              int32_t *strong_owner, int32_t *weak_owner) {
-    if (!heatmaps || !config || !people || !count || height < 0 || width < 0 || config->stride < 1 ||
-        config->max_people < 0 || capacity < config->max_people)
-        return VC_ERROR_ARGUMENT;
-    *count = 0;
-    if (channels == VC_LAYOUT_ANATOMICAL) return VC_ERROR_ANATOMICAL;
-    if (channels != VC_LAYOUT_HANDEDNESS && channels != VC_LAYOUT_OFFSETS && channels != VC_LAYOUT_FINE)
-        return VC_ERROR_LAYOUT;
-    if (width > 0 && (size_t)height > SIZE_MAX / sizeof(double) / 16 / (size_t)width) return VC_ERROR_MEMORY;
+/* Steps 1-4 on the centre map's peaks, or (from_heads, step 5) on the head map's: people[0..*count), and each
+ * foreground cell's strong and weak owner where those are given. */
+static int read_people(const frame *source, double floor_value, int from_heads, vc_person *people, int *count,
+                       int32_t *strong_owner, int32_t *weak_owner) {
+    const frame f = *source;
+    const vc_decode_config *config = f.config;
+    int height = f.height, width = f.width, channels = f.channels;
     size_t cells = (size_t)height * width;
-    for (size_t i = 0; i < cells * (size_t)channels; ++i)
-        if (!isfinite(heatmaps[i])) return VC_ERROR_NOT_FINITE;
-    if (expected_height_px)
-        for (size_t i = 0; i < cells; ++i)
-            if (!(expected_height_px[i] > 0.0f && expected_height_px[i] <= VC_MAX_HEIGHT_PX)) return VC_ERROR_HEIGHTS;
-    if (strong_owner)
-        for (size_t i = 0; i < cells; ++i) strong_owner[i] = -1;
-    if (weak_owner)
-        for (size_t i = 0; i < cells; ++i) weak_owner[i] = -1;
-    if (cells == 0) return VC_OK;
-
-    frame f = {heatmaps, channels, height, width, config, expected_height_px};
     int stride = config->stride, max_people = config->max_people, status = VC_ERROR_MEMORY;
-    double floor_value = isnan(weak_above) || !(weak_above < config->centre_threshold) ? config->centre_threshold
-                                                                                       : weak_above;
     peak_list found = {NULL, 0, 0};
     foreground fg = {0, NULL, NULL, NULL, NULL};
     size_t capacity_people = (size_t)max_people;
@@ -689,6 +680,7 @@ int vc_decode(const float *heatmaps, int channels, int height, int width, const 
     double *heights_px = allocate(capacity_people, sizeof(double));
     double *score = allocate(capacity_people, sizeof(double)), *heights_cells = allocate(capacity_people,
                                                                                           sizeof(double));
+    double *sized = allocate(capacity_people, sizeof(double));
     double *added_x = allocate(capacity_people, sizeof(double)), *added_y = allocate(capacity_people, sizeof(double));
     int *kept = allocate(capacity_people, sizeof(int)), *strong_index = allocate(capacity_people, sizeof(int));
     double *keypoints = allocate(capacity_people * VC_KEYPOINTS * 3, sizeof(double));
@@ -700,25 +692,42 @@ int vc_decode(const float *heatmaps, int channels, int height, int width, const 
     int32_t *owner = NULL, *owner_among_strong = NULL;
     int64_t *first_column = allocate(capacity_people, sizeof(int64_t)), *last_column = allocate(capacity_people,
                                                                                                sizeof(int64_t));
-    if (!x || !y || !heights_px || !score || !heights_cells || !added_x || !added_y || !kept || !strong_index || !keypoints ||
+    if (!x || !y || !heights_px || !score || !heights_cells || !sized || !added_x || !added_y || !kept || !strong_index || !keypoints ||
         !strong_x || !strong_y || !strong_heights || !strong_keypoints || !strong || !first_column || !last_column)
         goto done;
 
-    /* Step 1: the centre map's peaks, the strongest max_people, those too near a stronger one dropped. */
+    /* Step 1: the centre map's peaks, the strongest max_people, those too near a stronger one dropped; step 5:
+     * the head map's, none dropped, each moved to its person's centre by the offset times the size map's height. */
     window whole = {0, height, 0, width};
-    if (local_maxima(channel(&f, CENTRE), 1, height, width, (float)floor_value, &whole, 1, max_people, &found) != VC_OK)
+    const float *centre_map = channel(&f, from_heads ? HEAD : CENTRE);
+    if (local_maxima(centre_map, 1, height, width, (float)floor_value, &whole, 1, max_people, &found) != VC_OK)
         goto done;
-    int found_count = (int)found.count;
-    for (int i = 0; i < found_count; ++i) {
-        x[i] = found.items[i].x;
-        y[i] = found.items[i].y;
-        heights_cells[i] = height_px_at(&f, x[i], y[i]) / stride;
-    }
-    int n = separated(x, y, heights_cells, found_count, config->min_centre_separation, kept);
-    for (int i = 0; i < n; ++i) {
-        score[i] = (double)found.items[kept[i]].value;
-        x[i] = found.items[kept[i]].x;
-        y[i] = found.items[kept[i]].y;
+    int found_count = (int)found.count, n;
+    if (from_heads) {
+        for (int i = 0; i < found_count; ++i) {
+            size_t c = (size_t)clamp_index(np_int(rint(found.items[i].y)), 0, height - 1) * width +
+                       (size_t)clamp_index(np_int(rint(found.items[i].x)), 0, width - 1);
+            sized[i] = size_cells(&f, c);
+            double centre_x = found.items[i].x + (double)channel(&f, OFFSET_X)[c] * sized[i];
+            double centre_y = found.items[i].y + (double)channel(&f, OFFSET_Y)[c] * sized[i];
+            x[i] = centre_x < 0.0 ? 0.0 : (centre_x > width - 1 ? (double)(width - 1) : centre_x);
+            y[i] = centre_y < 0.0 ? 0.0 : (centre_y > height - 1 ? (double)(height - 1) : centre_y);
+            score[i] = (double)found.items[i].value;
+        }
+        n = found_count;
+    } else {
+        for (int i = 0; i < found_count; ++i) {
+            x[i] = found.items[i].x;
+            y[i] = found.items[i].y;
+            heights_cells[i] = height_px_at(&f, x[i], y[i]) / stride;
+        }
+        n = separated(x, y, heights_cells, found_count, config->min_centre_separation, kept);
+        for (int i = 0; i < n; ++i) {
+            score[i] = (double)found.items[kept[i]].value;
+            x[i] = found.items[kept[i]].x;
+            y[i] = found.items[kept[i]].y;
+            sized[i] = NAN;
+        }
     }
 
     /* The mask's cells and where each votes for its person's centre (step 1b); without offsets, the cell itself. */
@@ -745,14 +754,13 @@ int vc_decode(const float *heatmaps, int channels, int height, int width, const 
         const float *offset_x = channel(&f, OFFSET_X), *offset_y = channel(&f, OFFSET_Y);
         for (m = 0; m < fg.count; ++m) {
             size_t c = (size_t)fg.rows[m] * width + fg.columns[m];
-            double scale = height_px_at(&f, fg.voted_x[m], fg.voted_y[m]) / stride;
+            double scale = from_heads ? size_cells(&f, c) : height_px_at(&f, fg.voted_x[m], fg.voted_y[m]) / stride;
             fg.voted_x[m] += (double)offset_x[c] * scale;
             fg.voted_y[m] += (double)offset_y[c] * scale;
         }
-        centre_list peaks = {x, y, score, n};
+        centre_list peaks = {x, y, score, n, sized};
         int added = 0;
         if (vote_centres(&f, &fg, &peaks, added_x, added_y, &added) != VC_OK) goto done;
-        const float *centre_map = channel(&f, CENTRE);
         for (int a = 0; a < added; ++a) {
             int64_t column = clamp_index(np_int(rint(added_x[a])), 0, width - 1);
             int64_t row = clamp_index(np_int(rint(added_y[a])), 0, height - 1);
@@ -761,6 +769,7 @@ int vc_decode(const float *heatmaps, int channels, int height, int width, const 
                 score[n] = value;
                 x[n] = added_x[a];
                 y[n] = added_y[a];
+                sized[n] = NAN;
                 ++n;
             }
         }
@@ -853,14 +862,87 @@ int vc_decode(const float *heatmaps, int channels, int height, int width, const 
         memcpy(person->keypoints, keypoints + (size_t)i * VC_KEYPOINTS * 3, VC_KEYPOINTS * 3 * sizeof(double));
         person_box(config, person->centre, heights_px[i], &person->keypoints[0][0], first_column[i],
                    last_column[i], last_column[i] >= 0, person->box);
+        if (isfinite(sized[i])) { /* step 5: the size map's height, centred on the centre */
+            person->box[1] = person->centre[1] - sized[i] * stride / 2;
+            person->box[3] = person->centre[1] + sized[i] * stride / 2;
+        }
         person->weak = !strong[i];
+        person->head_found = 0;
     }
     *count = n;
     status = VC_OK;
 done:
     free(found.items), free(fg.rows), free(fg.columns), free(fg.voted_x), free(fg.voted_y), free(owner);
-    free(owner_among_strong), free(x), free(heights_px), free(y), free(score), free(heights_cells), free(added_x), free(added_y);
+    free(owner_among_strong), free(x), free(heights_px), free(y), free(score), free(heights_cells), free(sized);
+    free(added_x), free(added_y);
     free(kept), free(strong_index), free(keypoints), free(strong_x), free(strong_y), free(strong_heights);
     free(strong_keypoints), free(strong), free(first_column), free(last_column);
     return status;
+}
+
+/* ---- step 5: the people read from the heads ---- */
+
+/* Steps 1-4 on the centre map, then on the head map: its strong people appended, flagged head_found, each with the
+ * cells the head reading gives them in head_owner (decode.py's decode_readings). */
+static int read_with_heads(const frame *f, double floor_value, vc_person *people, int *count, int32_t *strong_owner,
+                           int32_t *weak_owner, int32_t *head_owner) {
+    size_t cells = (size_t)f->height * f->width, capacity = (size_t)f->config->max_people;
+    int status = VC_ERROR_MEMORY, first = 0, found = 0;
+    int32_t *found_owner = allocate(cells, sizeof(int32_t));
+    vc_person *heads = allocate(capacity, sizeof(vc_person));
+    int *kept_as = allocate(capacity, sizeof(int));
+    if (!found_owner || !heads || !kept_as) goto done;
+    for (size_t c = 0; c < cells; ++c) found_owner[c] = -1;
+    if ((status = read_people(f, floor_value, 0, people, &first, strong_owner, weak_owner)) != VC_OK) goto done;
+    if ((status = read_people(f, floor_value, 1, heads, &found, found_owner, NULL)) != VC_OK) goto done;
+    int total = first;
+    for (int k = 0; k < found; ++k) {
+        kept_as[k] = -1;
+        if (heads[k].weak) continue;
+        people[total] = heads[k];
+        people[total].head_found = 1;
+        kept_as[k] = total++;
+    }
+    if (head_owner)
+        for (size_t c = 0; c < cells; ++c) head_owner[c] = found_owner[c] >= 0 ? kept_as[found_owner[c]] : -1;
+    *count = total;
+    status = VC_OK;
+done:
+    free(found_owner), free(heads), free(kept_as);
+    return status;
+}
+
+int vc_decode(const float *heatmaps, int channels, int height, int width, const vc_decode_config *config,
+              const float *expected_height_px, double weak_above, vc_person *people, int capacity, int *count,
+              int32_t *strong_owner, int32_t *weak_owner, int32_t *head_owner) {
+    if (!heatmaps || !config || !people || !count || height < 0 || width < 0 || config->stride < 1 ||
+        config->max_people < 0 || capacity < config->max_people ||
+        (channels == VC_LAYOUT_HEAD && capacity - config->max_people < config->max_people))
+        return VC_ERROR_ARGUMENT;
+    *count = 0;
+    if (channels == VC_LAYOUT_ANATOMICAL) return VC_ERROR_ANATOMICAL;
+    if (channels != VC_LAYOUT_HANDEDNESS && channels != VC_LAYOUT_OFFSETS && channels != VC_LAYOUT_FINE &&
+        channels != VC_LAYOUT_HEAD)
+        return VC_ERROR_LAYOUT;
+    if (width > 0 && (size_t)height > SIZE_MAX / sizeof(double) / 16 / (size_t)width) return VC_ERROR_MEMORY;
+    size_t cells = (size_t)height * width;
+    for (size_t i = 0; i < cells * (size_t)channels; ++i)
+        if (!isfinite(heatmaps[i])) return VC_ERROR_NOT_FINITE;
+    if (expected_height_px)
+        for (size_t i = 0; i < cells; ++i)
+            if (!(expected_height_px[i] > 0.0f && expected_height_px[i] <= VC_MAX_HEIGHT_PX)) return VC_ERROR_HEIGHTS;
+    if (strong_owner)
+        for (size_t i = 0; i < cells; ++i) strong_owner[i] = -1;
+    if (weak_owner)
+        for (size_t i = 0; i < cells; ++i) weak_owner[i] = -1;
+    if (head_owner)
+        for (size_t i = 0; i < cells; ++i) head_owner[i] = -1;
+    if (cells == 0) return VC_OK;
+
+    frame f = {heatmaps, channels, height, width, config, expected_height_px};
+    double floor_value = isnan(weak_above) || !(weak_above < config->centre_threshold) ? config->centre_threshold
+                                                                                       : weak_above;
+    if (channels != VC_LAYOUT_HEAD)
+        return read_people(&f, floor_value, 0, people, count, strong_owner, weak_owner);
+    return read_with_heads(&f, floor_value, people, count, strong_owner, weak_owner, head_owner);
 }

@@ -22,10 +22,12 @@ extern "C" {
 #define VC_DECODER_VERSION 1
 #define VC_KEYPOINTS 17
 #define VC_PAIRS 8
-/* The heat-map layouts decoded, by channel count: handedness maps; + centre offsets; + the fine centre map. */
+/* The heat-map layouts decoded, by channel count: handedness maps; + centre offsets; + the fine centre map; */
 #define VC_LAYOUT_HANDEDNESS 27
 #define VC_LAYOUT_OFFSETS 29
 #define VC_LAYOUT_FINE 33
+/* ... + the head and size maps (decode.py's step 5 reads people from the heads too). */
+#define VC_LAYOUT_HEAD 35
 /* The retired layout (keypoint pairs in anatomical order, no handedness): refused by name. */
 #define VC_LAYOUT_ANATOMICAL 19
 /* The tallest expected person height accepted, in network-input pixels. */
@@ -74,17 +76,22 @@ typedef struct {
     double box[4];                      /* x0, y0, x1, y1: outer edges */
     float pair_handedness[VC_PAIRS];
     int weak;
+    int head_found; /* read from the head map (step 5) */
 } vc_person;
 
 /* People in one sample's heat maps (channels, height, width; C order, float32).
  * expected_height_px: (height, width) per cell, or NULL for the settings' default height.
  * weak_above: decode the centre peaks down to it as weak people (for a tracker); NaN: none.
- * people: room for at least config->max_people; *count receives how many were decoded.
- * strong_owner, weak_owner: (height, width) each, or NULL: the person owning each cell of the mask (-1: none);
- * a cell can belong to one strong person and one weak one. */
+ * people: room for at least config->max_people (twice that for heat maps with the head map); *count receives how
+ * many were decoded. From a network with a head map (VC_LAYOUT_HEAD), the people of the centre map come first,
+ * then every strong person read from the heads (head_found; decode.py's step 5 and decode_readings): which of those
+ * to add depends on which of the first the caller keeps (decode.py's with_heads_added, then one_head_each).
+ * strong_owner, weak_owner, head_owner: (height, width) each, or NULL: the person owning each cell of the mask
+ * (-1: none), among the strong people of the centre map, the weak ones, and those read from the heads (step 5);
+ * a cell can belong to one of each. */
 int vc_decode(const float *heatmaps, int channels, int height, int width, const vc_decode_config *config,
               const float *expected_height_px, double weak_above, vc_person *people, int capacity, int *count,
-              int32_t *strong_owner, int32_t *weak_owner);
+              int32_t *strong_owner, int32_t *weak_owner, int32_t *head_owner);
 
 /* A short English sentence for a status. */
 const char *vc_status_message(int status);
