@@ -261,9 +261,12 @@ class RegionRunner:
         if len(outside):
             across[outside] = just_across_seam(feet[outside], boxes[outside, 3] - boxes[outside, 1],
                                                self.owned_area, self.neighbour_areas, seam_tolerance)
-        return with_heads_added([self._person(person, box, bool(is_across)) for person, box, is_inside, is_across
-                                 in zip(decoded, boxes, inside, across, strict=True) if is_inside or is_across],
-                                config.max_people)
+        # step 5 over the people kept, on their frame boxes, before their masks are cut (most heads are not added)
+        kept = np.flatnonzero(inside | across)
+        framed = [replace(decoded[index], box=boxes[index]) for index in kept]
+        across_seam = {id(person): bool(across[index]) for person, index in zip(framed, kept, strict=True)}
+        return [self._person(person, person.box, across_seam[id(person)])
+                for person in with_heads_added(framed, config.max_people)]
 
     def _person(self, person: DecodedPerson, box: np.ndarray, across_seam: bool) -> Person:
         keypoints = person.keypoints.copy()
