@@ -692,8 +692,9 @@ static int read_people(const frame *source, double floor_value, int from_heads, 
     int32_t *owner = NULL, *owner_among_strong = NULL;
     int64_t *first_column = allocate(capacity_people, sizeof(int64_t)), *last_column = allocate(capacity_people,
                                                                                                sizeof(int64_t));
-    if (!x || !y || !heights_px || !score || !heights_cells || !sized || !added_x || !added_y || !kept || !strong_index || !keypoints ||
-        !strong_x || !strong_y || !strong_heights || !strong_keypoints || !strong || !first_column || !last_column)
+    if (!x || !y || !heights_px || !score || !heights_cells || !sized || !added_x || !added_y || !kept ||
+        !strong_index || !keypoints || !strong_x || !strong_y || !strong_heights || !strong_keypoints || !strong ||
+        !first_column || !last_column)
         goto done;
 
     /* Step 1: the centre map's peaks, the strongest max_people, those too near a stronger one dropped; step 5:
