@@ -37,17 +37,20 @@ def pose_lines(camera: str) -> list[str]:
     if not path.exists():
         return []
     lines = [json.loads(line) for line in path.read_text().splitlines()]
-    rows = ["| pose agreement / time | half | shipped | head | seeds (shipped / head) |", "|---" * 5 + "|"]
+    rows = ["| pose agreement / time | half | shipped | head | seeds (shipped / head) | difference | level within "
+            "| call |", "|---" * 8 + "|"]
     for index, half in enumerate(again.HALVES):
         chosen = [line for line in lines if (line["frames"][0] == 1) == (index == 0)]
         for reading in POSE:
             shipped = [line["readings"][f"shipped, {reading}"]["overall"] for line in chosen]
             head = [line["readings"][f"head, {reading}"]["overall"] for line in chosen]
+            called = difference(Change.RETRAINED, f"pose {reading}", camera, half, shipped, head)
             rows.append(f"| pose {reading} | {half} | {np.mean(shipped):.3f} | {np.mean(head):.3f} | "
-                        f"{', '.join(f'{v:.3f}' for v in shipped)} / {', '.join(f'{v:.3f}' for v in head)} |")
+                        f"{', '.join(f'{v:.3f}' for v in shipped)} / {', '.join(f'{v:.3f}' for v in head)} | "
+                        f"{called.mean:+.3f} | ±{called.level_within:.3f} | {called.call} |")
         ratios = [line["time_ratio"]["head"] for line in chosen]
         rows.append(f"| time a frame, head / shipped | {half} | 1 | {np.mean(ratios):.2f} | "
-                    f"{', '.join(f'{v:.2f}' for v in ratios)} |")
+                    f"{', '.join(f'{v:.2f}' for v in ratios)} | | | |")
     return rows + [""]
 
 
