@@ -208,12 +208,13 @@ class RegionRunner:
         return self.origin + (np.asarray(xy, np.float64) + 0.5) / self.scale - 0.5
 
     def people(self, frame: np.ndarray) -> list[Person]:
-        """The people this region owns in ``frame``; the seconds its network and its decoding took are
+        """The people this region owns in ``frame``, not yet :meth:`faced` (the runtime faces those the frame keeps
+        once the regions' people are put together); the seconds its network and its decoding took are
         :attr:`last_seconds` (for a service's metrics)."""
         start = time.perf_counter()
         heatmaps = self.heatmaps(frame)
         decoding = time.perf_counter()
-        people = self.faced(frame, self.people_in(heatmaps))
+        people = self.people_in(heatmaps)
         self.last_seconds = (decoding - start, time.perf_counter() - decoding)
         return people
 
@@ -314,7 +315,7 @@ class FrameResult:
     fitness: FrameFitness
     suppressed: bool = False
     network_s: float = 0.0  # the regions' networks, summed (0 when the frame's people were withheld)
-    decode_s: float = 0.0  # their decoding, summed
+    decode_s: float = 0.0  # their decoding, summed, and the facing and keypoint models on the people kept
 
     def reported(self, people: list[Person]) -> list[Person]:
         """What to report of ``people`` for this frame — a tracker's output for it, which adds people carried
@@ -457,11 +458,12 @@ class Runtime:
         per_region = ([runner.people(shown) for runner in self.runners] if pending is None
                       else [future.result() for future in pending])
         people = sorted((person for found in per_region for person in found), key=lambda person: -person.score)
+        kept = one_head_each(without_seam_duplicates(people))
+        facing_s = self._faced(shown, kept)
         result = FrameResult([within_frame(moved_by(person, self.registration, self.bundle.frame_size),
-                                           self.bundle.frame_size)
-                              for person in one_head_each(without_seam_duplicates(people))], fitness,
+                                           self.bundle.frame_size) for person in kept], fitness,
                              network_s=sum(runner.last_seconds[0] for runner in self.runners),
-                             decode_s=sum(runner.last_seconds[1] for runner in self.runners))
+                             decode_s=sum(runner.last_seconds[1] for runner in self.runners) + facing_s)
         result.reported(result.people)  # flagged when unfit
         return result
 
@@ -511,6 +513,22 @@ class Runtime:
         if judged.unfit or judged.matching < BROUGHT_BACK_AGREEMENT:
             return None
         return frame, judged, stops
+
+    def _faced(self, frame: np.ndarray, people: list[Person]) -> float:
+        """Each region's people of ``people`` faced by its runner (:meth:`RegionRunner.faced`, in place; in the pool
+        where there is one), once the seam and one-head rules have dropped those a neighbour reports: a person
+        dropped costs no facing or keypoint model. Returns the seconds it took."""
+        start = time.perf_counter()
+        groups = [(runner, [person for person in people if person.region == runner.entry.name])
+                  for runner in self.runners]
+        groups = [(runner, group) for runner, group in groups if group]
+        if self.pool is None or len(groups) < 2:
+            for runner, group in groups:
+                runner.faced(frame, group)
+        else:
+            for future in [self.pool.submit(runner.faced, frame, group) for runner, group in groups]:
+                future.result()
+        return time.perf_counter() - start
 
     def _start(self, frame: np.ndarray) -> list[Future] | None:
         """The regions' networks started on ``frame`` in the pool (None without one: they run when needed)."""
