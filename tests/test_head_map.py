@@ -1,6 +1,6 @@
-"""The head and size maps (issue 57 item 2, docs/decisions/0058-head-map.md): what the codec draws, how the loss
-weighs them, and the decoder's step 5 — people whose centres blur into one peak read again from their heads, added
-where no kept person holds them, one head one person."""
+"""The head and size maps (issue 57 item 2, docs/decisions/0058-a-head-map-in-every-region.md): what the codec
+draws, how the loss weighs them, and the decoder's step 5 — people whose centres blur into one peak read again from
+their heads, added where no kept person holds them, one head one person."""
 
 from __future__ import annotations
 

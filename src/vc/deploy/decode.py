@@ -36,7 +36,7 @@
    head, one person; the runtime applies it over the frame). Their mask cells are those the head reading gives
    them: a cell may belong to a person of each reading, as to a strong person and a weak one (the tracker's
    appearance reads them). People in a group whose centres make one peak are so found, each with their own box
-   (docs/decisions/0058-head-map.md).
+   (docs/decisions/0058-a-head-map-in-every-region.md).
 
 Coordinates are network-input pixels (pixel centres at integers) unless named ``*_cells``.
 """
@@ -87,10 +87,10 @@ MERGED_PEAK_REACH = 0.5
 #: follows (the other foot swings up to 0.1 heights higher).
 LOWER_ANKLE_OFFSET = 0.427
 #: Step 5 adds a person read from the heads whose box overlaps every person of the first reading by less than this:
-#: more, and it is one of them (docs/decisions/0058-head-map.md).
+#: more, and it is one of them (docs/decisions/0058-a-head-map-in-every-region.md).
 HEAD_UNION_IOU = 0.5
 #: A person added from the heads whose head lies within this many of another person's heights of that person's head
-#: is that person again (step 5; docs/decisions/0058-head-map.md).
+#: is that person again (step 5; docs/decisions/0058-a-head-map-in-every-region.md).
 SAME_HEAD_REACH = 0.1
 
 

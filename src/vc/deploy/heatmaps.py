@@ -61,7 +61,7 @@ FINE_CHANNELS = FINE_CENTRE_CHANNELS.stop
 #: middle of their nose, eyes and ears), and over each person's pixels the log of their height in
 #: :data:`SIZE_UNIT_CELLS` cells. People in a group whose centres blur into one peak keep their heads apart; at a
 #: head, the centre offset times the size map's height is the way to the person's centre, so the decoder reads a
-#: second set of people from the heads (docs/decisions/0058-head-map.md).
+#: second set of people from the heads (docs/decisions/0058-a-head-map-in-every-region.md).
 HEAD_CHANNEL = FINE_CHANNELS
 SIZE_CHANNEL = FINE_CHANNELS + 1
 HEAD_CHANNELS = SIZE_CHANNEL + 1

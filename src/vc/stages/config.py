@@ -213,12 +213,13 @@ PRESETS: dict[str, CompileConfig] = {
                            export=ExportSettings(precision="auto", eval_samples=100),
                            self_test=SelfTestSettings(frames=8)),
     # the default: PETS09 in about 26 minutes on 2 cores. Centre offsets and the fine centre map keep people side by
-    # side apart (docs/decisions/0003-decoder-settings.md, docs/decisions/0010-fine-centre-map.md); neither is
-    # measured at the quick budget's 200 steps
+    # side apart (docs/decisions/0003-decoder-settings.md, docs/decisions/0010-fine-centre-map.md), the head map
+    # people in groups (docs/decisions/0058-a-head-map-in-every-region.md); none is measured at the quick budget's
+    # 200 steps
     "standard": CompileConfig(render=RenderSettings(samples=2000),
-                              train=TrainSettings(centre_offsets=True, fine_centre=True)),
+                              train=TrainSettings(centre_offsets=True, fine_centre=True, head_map=True)),
     "full": CompileConfig(render=RenderSettings(samples=6000, spp=32),
-                          train=TrainSettings(steps=5000, centre_offsets=True, fine_centre=True),
+                          train=TrainSettings(steps=5000, centre_offsets=True, fine_centre=True, head_map=True),
                           self_test=SelfTestSettings(frames=100)),
 }
 
