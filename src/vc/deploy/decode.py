@@ -187,7 +187,7 @@ class DecodedPerson:
     # decoder ordered the pairs by their signs.
     pair_handedness: np.ndarray
     weak: bool = False  # below the centre threshold, decoded only when asked for (``decode``'s ``weak_above``)
-    head_found: bool = False  # added by step 5, read from the head map
+    head_found: bool = False  # read from the head map (step 5)
 
 
 def _refine_many(heatmaps: np.ndarray, rows: np.ndarray, columns: np.ndarray,
@@ -468,7 +468,6 @@ def _read(heatmaps: np.ndarray, config: DecodeConfig, expected_height_px: np.nda
                                     mask_cells=mask_cells, pair_handedness=pair_handedness[index],
                                     weak=not strong[index]))
     return people
-
 
 
 def _size_cells(heatmaps: np.ndarray, rows: np.ndarray, columns: np.ndarray, stride: int) -> np.ndarray:

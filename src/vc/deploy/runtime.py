@@ -266,14 +266,15 @@ class RegionRunner:
         kept = np.flatnonzero(inside | across)
         framed = [replace(decoded[index], box=boxes[index]) for index in kept]
         across_seam = {id(person): bool(across[index]) for person, index in zip(framed, kept, strict=True)}
-        return [self._person(person, person.box, across_seam[id(person)])
+        return [self._person(person, across_seam[id(person)])
                 for person in with_heads_added(framed, config.max_people)]
 
-    def _person(self, person: DecodedPerson, box: np.ndarray, across_seam: bool) -> Person:
+    def _person(self, person: DecodedPerson, across_seam: bool) -> Person:
+        """``person``, their box already in frame pixels, as the frame's :class:`Person`."""
         keypoints = person.keypoints.copy()
         keypoints[:, :2] = self.to_frame(keypoints[:, :2])
         mask, origin = self._frame_mask(person.mask_cells)
-        return Person(self.entry.name, person.score, box, keypoints, mask, origin, person.pair_handedness,
+        return Person(self.entry.name, person.score, person.box, keypoints, mask, origin, person.pair_handedness,
                       weak=person.weak, across_seam=across_seam, head_found=person.head_found)
 
     def _cells_of_crop_pixels(self, cells_shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
@@ -606,4 +607,3 @@ def without_seam_duplicates(people: list[Person], iou: float = SEAM_DUPLICATE_IO
         kept.append(person)
     kept_ids = {id(person) for person in kept}
     return [person for person in people if id(person) in kept_ids]
-
