@@ -173,6 +173,21 @@ def test_a_person_and_their_mirror_image_are_read_as_each_others_mirror(trained)
     np.testing.assert_allclose(swap_pairs(seen, np.ones((len(seen), len(PAIRS)), bool)), read, atol=1e-3)
 
 
+def _noise_frame_and_two_people() -> tuple[np.ndarray, np.ndarray]:
+    """A frame of noise and two people's boxes at fractional pixels, far apart: cut from one part of the frame, the
+    first person's crop would be sampled from another origin than alone."""
+    frame = np.random.default_rng(5).integers(0, 256, (200, 330, 3)).astype(np.uint8)
+    return frame, np.array([[251.37, 53.71, 301.9, 181.13], [3.29, 2.61, 40.77, 120.4]])
+
+
+def test_a_person_reads_the_same_alone_and_beside_others(trained):
+    reader = CropPoseReader(export_crop_pose(trained.net))
+    frame, boxes = _noise_frame_and_two_people()
+    alone = reader.read(frame, boxes[:1])
+    np.testing.assert_array_equal(reader.read(frame, boxes)[:1], alone)  # to the last bit (0059)
+    np.testing.assert_array_equal(reader.read(frame, boxes[::-1])[1:], alone)
+
+
 def test_the_keypoint_model_at_int8_reads_the_crops_as_fp32_does(trained):
     model = export_crop_pose(trained.net)
     chosen = keypoints_at_int8(model, _crops(128, 0), _crops(32, 1), seed=0)

@@ -235,6 +235,16 @@ def test_the_exported_model_reads_the_frame_as_the_network_reads_its_crops(train
     assert reader.read(frame, np.zeros((0, 4))).front_logits.shape == (0,)
 
 
+def test_a_person_reads_the_same_alone_and_beside_others(trained, turned, headed):
+    reader = FacingReader(export_facing(trained.net, turned.net, headed.net))
+    frame = np.random.default_rng(5).integers(0, 256, (200, 330, 3)).astype(np.uint8)
+    for boxes in (np.array([[251.37, 53.71, 301.9, 181.13], [3.29, 2.61, 40.77, 120.4]]),  # read twice
+                  np.array([[251.37, 53.71, 271.9, 111.13], [3.29, 2.61, 20.77, 60.4]])):  # read by the head
+        alone, together = reader.read(frame, boxes[:1]), reader.read(frame, boxes)
+        assert together.front_logits[0] == alone.front_logits[0]  # to the last bit (0059)
+        assert together.across[0] == alone.across[0]
+
+
 def test_a_facing_reorders_the_pairs_and_becomes_the_handedness():
     keypoints = np.arange(17 * 3, dtype=np.float64).reshape(17, 3)
     # the networks ordered every pair as seen from behind (> 0): the image-left member is the left one

@@ -11,7 +11,8 @@ docs/decisions/0039-keypoints-from-the-crop.md, docs/decisions/0040-keypoint-mod
 0. Only people at least :data:`MIN_READ_HEIGHT_PX` tall are read; the others keep the region network's keypoints.
 1. Each person's crop is the rectangle the facing model cuts (:func:`vc.deploy.facing.crop_rois`: the box
    :data:`~vc.deploy.facing.CROP_MARGIN` taller, twice as tall as wide), sampled at :data:`CROP_SIZE` by the model's
-   own graph (ONNX RoiAlign, as the facing model does).
+   own graph (ONNX RoiAlign, as the facing model does), each person from their own part of the frame
+   (:func:`vc.deploy.facing.own_parts`).
 2. Its output is one heat map per keypoint at :data:`MAP_STRIDE`, each left/right pair in image order (which member is
    the left one is the facing's question, not this model's).
    The crop is read twice, as it is and mirrored (:func:`vc.deploy.facing.mirrored`); the mirror's maps, mirrored
@@ -29,7 +30,7 @@ from __future__ import annotations
 import numpy as np
 
 from vc.deploy.engines import onnxruntime_inference
-from vc.deploy.facing import FRAME_INPUT, ROIS_INPUT, crop_rois, frame_part, mirrored
+from vc.deploy.facing import FRAME_INPUT, ROIS_INPUT, crop_rois, own_parts
 from vc.deploy.heatmaps import PAIRS, swap_pairs
 
 #: The crop the keypoint model reads, width x height (pixels): twice the facing model's, as tall as a near person of
@@ -115,9 +116,9 @@ class CropPoseReader:
         if not len(boxes):
             return np.zeros((0, 17, 3), np.float64)
         rois = crop_rois(boxes)
-        part, shifted = frame_part(frame, rois)
-        return keypoints_of_maps((self._maps(part, shifted) + mirrored_back(self._maps(*mirrored(part, shifted))))
-                                 / 2.0, rois)
+        maps = [(self._maps(*part) + mirrored_back(self._maps(*mirror))) / 2.0
+                for part, mirror in zip(own_parts(frame, rois), own_parts(frame, rois, mirror=True), strict=True)]
+        return keypoints_of_maps(np.concatenate(maps), rois)
 
     def _maps(self, part: np.ndarray, rois: np.ndarray) -> np.ndarray:
         return np.asarray(self.session.run([MAPS_OUTPUT], {FRAME_INPUT: part, ROIS_INPUT: rois})[0], np.float32)

@@ -11,7 +11,9 @@ the image: where the networks cannot tell, they put the nose between the ears, w
 1. Each person's crop is the box, :data:`CROP_MARGIN` taller, twice as tall as wide about the box's centre
    (:func:`crop_rois`). The model cuts the crops itself: its graph takes the frame (1, H, W, 3) uint8 and the crops'
    rectangles (N, 4), and samples each at :data:`CROP_SIZE` by ONNX's RoiAlign, every bin the average of 2 x 2
-   samples spread over it (onnxruntime's C++, one call a frame; numpy resampling per person cost 0.6 ms each).
+   samples spread over it (onnxruntime's C++; numpy resampling per person cost 0.6 ms each). Each person is cut
+   from their own part of the frame, one call each, so that what the model reads of them does not depend on who
+   else is in the frame (:func:`own_parts`).
 2. Its outputs are one logit per person, > 0 seen from the front, and, from models exported since 0038, where the
    face points across the image (-1 in profile facing the image's left, 0 along the view, 1 facing its right).
    From models exported since 0041, a second front logit read from the head's colours alone: for people shorter
@@ -31,6 +33,7 @@ the image: where the networks cannot tell, they put the nose between the ears, w
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from typing import NamedTuple
 
 import numpy as np
@@ -99,6 +102,17 @@ def frame_part(frame: np.ndarray, rois: np.ndarray) -> tuple[np.ndarray, np.ndar
     return np.ascontiguousarray(frame[None, y0:y1, x0:x1]), rois - np.array([x0, y0, x0, y0], np.float32)
 
 
+def own_parts(frame: np.ndarray, rois: np.ndarray, mirror: bool = False) -> Iterator[tuple[np.ndarray, np.ndarray]]:
+    """Each person's own :func:`frame_part` of ``frame`` and their crop's rectangle (1, 4) within it, each
+    :func:`mirrored` with ``mirror``: a crop graph reads each person from their own part, so that what it reads of
+    them does not depend on who else is in the frame. Cut from a part shared by everyone, a person's RoiAlign samples
+    are computed from another origin, round otherwise in float32, and the int8 keypoint model moved a keypoint by up
+    to 30 px for that (docs/decisions/0059-each-person-read-from-their-own-part.md)."""
+    for roi in np.asarray(rois, np.float32).reshape(-1, 4):
+        part = frame_part(frame, roi[None])
+        yield mirrored(*part) if mirror else part
+
+
 class FacingReading(NamedTuple):
     """What the facing model reads of N people: front logits (N,), and where each face points across the image
     (N,) in [-1, 1], or None from a model exported before it read that."""
@@ -137,10 +151,10 @@ class FacingReader:
         boxes = np.asarray(boxes, np.float64).reshape(-1, 4)
         heights = boxes[:, 3] - boxes[:, 1]
         rois = crop_rois(boxes)
-        found = self._outputs(*frame_part(frame, rois))
+        found = self._outputs(own_parts(frame, rois))
         tall = heights >= MIRRORED_FROM_PX
         if tall.any():
-            seen = self._outputs(*mirrored(*frame_part(frame, rois[tall])))
+            seen = self._outputs(own_parts(frame, rois[tall], mirror=True))
             if self.reads_across:
                 seen[ACROSS_OUTPUT] = -seen[ACROSS_OUTPUT]  # a mirror turns the face the other way
             for name in self.outputs:
@@ -148,11 +162,11 @@ class FacingReader:
         return FacingReading(front_logits(found[OUTPUT_NAME], found.get(HEAD_OUTPUT), heights),
                              found[ACROSS_OUTPUT] if self.reads_across else None)
 
-    def _outputs(self, part: np.ndarray, rois: np.ndarray) -> dict[str, np.ndarray]:
-        """Each of the model's outputs (N,) float32 for the crops ``rois`` of the frame input ``part``."""
-        readings = self.session.run(self.outputs, {FRAME_INPUT: part, ROIS_INPUT: rois})
-        return {name: np.asarray(value, np.float32).reshape(-1) for name, value in
-                zip(self.outputs, readings, strict=True)}
+    def _outputs(self, parts: Iterator[tuple[np.ndarray, np.ndarray]]) -> dict[str, np.ndarray]:
+        """Each of the model's outputs (N,) float32 for the N people's own ``parts`` (:func:`own_parts`)."""
+        readings = [self.session.run(self.outputs, {FRAME_INPUT: part, ROIS_INPUT: roi}) for part, roi in parts]
+        return {name: np.asarray([reading[index] for reading in readings], np.float32).reshape(-1)
+                for index, name in enumerate(self.outputs)}
 
 
 def ordered_by_facing(keypoints: np.ndarray, pair_handedness: np.ndarray, front_logit: float
