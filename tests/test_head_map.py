@@ -13,6 +13,7 @@ import torch
 from test_codec import STRIDE, _instances, _person
 
 from vc.deploy.decode import (
+    HEAD_HEIGHT_AGREEMENT,
     HEAD_UNION_IOU,
     SAME_HEAD_REACH,
     DecodeConfig,
@@ -111,6 +112,20 @@ def test_people_whose_centres_make_one_peak_are_found_again_from_their_heads():
     x0, y0, width, height = people[1]["amodal_bbox"]
     assert added.box[1] == pytest.approx(y0, abs=2.0) and added.box[3] == pytest.approx(y0 + height, abs=2.0)
     assert added.mask_cells.any()
+
+
+@pytest.mark.parametrize("size_factor", [1.05, 1 / 1.05, 1.3, 1 / 1.3])
+def test_a_person_read_from_the_heads_is_as_tall_as_their_keypoints_where_the_size_map_agrees(size_factor):
+    people, heatmaps = _blurred_pair(gap=24.0)
+    heatmaps[SIZE_CHANNEL] += np.log(size_factor)  # the size map reads them this much taller than they are
+    added = decode(heatmaps, NO_VOTES, np.full(heatmaps.shape[1:], 100.0))[1]
+    assert added.head_found
+    _, y0, _, height = people[1]["amodal_bbox"]
+    if 1 / HEAD_HEIGHT_AGREEMENT <= size_factor <= HEAD_HEIGHT_AGREEMENT:  # their head and ankles place the box
+        assert added.box[1] == pytest.approx(y0, abs=2.0) and added.box[3] == pytest.approx(y0 + height, abs=2.0)
+    else:  # the size map's height, centred on the centre it placed
+        assert added.box[3] - added.box[1] == pytest.approx(size_factor * height, abs=1.0)
+        assert (added.box[1] + added.box[3]) / 2 == pytest.approx(added.centre[1])
 
 
 def test_a_person_read_from_the_heads_whose_box_a_kept_person_holds_is_not_added():

@@ -28,15 +28,18 @@
 5. From a network with a head map (:data:`~vc.deploy.heatmaps.HEAD_CHANNELS`), steps 1-4 run a second time on the
    heads: the head map's peaks, none merged (heads stand apart where centres blur), each a person whose centre is
    the head plus the centre offset there times the size map's height; in step 1b each cell's offset is scaled by
-   the size map's height there, and the box's top and bottom are the size map's height centred on the centre.
-   A strong person of this reading is added where their box overlaps every strong person of the first that the
-   caller keeps (a region: those standing in its owned area) by less than :data:`HEAD_UNION_IOU`
-   (:func:`with_heads_added`), and then dropped where their head (their box's top middle) lies within
-   :data:`SAME_HEAD_REACH` of another reported person's height of that person's head (:func:`one_head_each`: one
-   head, one person; the runtime applies it over the frame). Their mask cells are those the head reading gives
-   them: a cell may belong to a person of each reading, as to a strong person and a weak one (the tracker's
-   appearance reads them). People in a group whose centres make one peak are so found, each with their own box
-   (docs/decisions/0058-a-head-map-in-every-region.md).
+   the size map's height there. The box's top and bottom are step 4's where the height they give agrees with the
+   size map's within :data:`HEAD_HEIGHT_AGREEMENT`, else the size map's height centred on the centre: a person's own
+   head and ankles place the box better than the size map, but at eye level a person behind another stands above
+   the other's ankles, and the size map then says how tall they are
+   (docs/decisions/0060-the-heads-boxes-from-their-keypoints.md). A strong person of this reading is added where
+   their box overlaps every strong person of the first that the caller keeps (a region: those standing in its owned
+   area) by less than :data:`HEAD_UNION_IOU` (:func:`with_heads_added`), and then dropped where their head (their
+   box's top middle) lies within :data:`SAME_HEAD_REACH` of another reported person's height of that person's head
+   (:func:`one_head_each`: one head, one person; the runtime applies it over the frame). Their mask cells are those
+   the head reading gives them: a cell may belong to a person of each reading, as to a strong person and a weak one
+   (the tracker's appearance reads them). People in a group whose centres make one peak are so found, each with
+   their own box (docs/decisions/0058-a-head-map-in-every-region.md).
 
 Coordinates are network-input pixels (pixel centres at integers) unless named ``*_cells``.
 """
@@ -92,6 +95,9 @@ HEAD_UNION_IOU = 0.5
 #: A person added from the heads whose head lies within this many of another person's heights of that person's head
 #: is that person again (step 5; docs/decisions/0058-a-head-map-in-every-region.md).
 SAME_HEAD_REACH = 0.1
+#: Step 5 keeps step 4's top and bottom for a person read from the heads where the height they give is within this
+#: factor of the size map's (docs/decisions/0060-the-heads-boxes-from-their-keypoints.md).
+HEAD_HEIGHT_AGREEMENT = 1.15
 
 
 @dataclass(frozen=True)
@@ -457,7 +463,10 @@ def _read(heatmaps: np.ndarray, config: DecodeConfig, expected_height_px: np.nda
              == np.arange(len(peaks))[:, None]) & within_reach
     centres = cells_to_input(centres_cells, stride)
     boxes = _boxes(centres, heights_px, keypoints, owned, mask_columns, config, prior)
-    sized = np.isfinite(sized_cells)  # step 5: the size map's height, centred on the centre
+    # step 5: the size map's height, centred on the centre, where step 4's disagrees with it
+    with np.errstate(invalid="ignore"):  # NaN sizes: the decoder's box
+        ratio = (boxes[:, 3] - boxes[:, 1]) / (sized_cells * stride)
+    sized = np.isfinite(sized_cells) & ~((ratio >= 1.0 / HEAD_HEIGHT_AGREEMENT) & (ratio <= HEAD_HEIGHT_AGREEMENT))
     boxes[sized, 1] = centres[sized, 1] - sized_cells[sized] * stride / 2
     boxes[sized, 3] = centres[sized, 1] + sized_cells[sized] * stride / 2
     people = []

@@ -18,6 +18,7 @@ static const int ANKLE_KEYPOINTS[2] = {15, 16};
 static const double PERSON_AREA = 0.18;      /* decode.py's PERSON_AREA */
 static const double MERGED_PEAK_REACH = 0.5; /* decode.py's MERGED_PEAK_REACH */
 static const double SIZE_UNIT_CELLS = 20.0;  /* heatmaps.py's SIZE_UNIT_CELLS */
+static const double HEAD_HEIGHT_AGREEMENT = 1.15; /* decode.py's HEAD_HEIGHT_AGREEMENT */
 
 /* ---- numpy's semantics where they differ from C's ---- */
 
@@ -863,9 +864,12 @@ static int read_people(const frame *source, double floor_value, int from_heads, 
         memcpy(person->keypoints, keypoints + (size_t)i * VC_KEYPOINTS * 3, VC_KEYPOINTS * 3 * sizeof(double));
         person_box(config, person->centre, heights_px[i], &person->keypoints[0][0], first_column[i],
                    last_column[i], last_column[i] >= 0, person->box);
-        if (isfinite(sized[i])) { /* step 5: the size map's height, centred on the centre */
-            person->box[1] = person->centre[1] - sized[i] * stride / 2;
-            person->box[3] = person->centre[1] + sized[i] * stride / 2;
+        if (isfinite(sized[i])) { /* step 5: the size map's height, centred on the centre, where step 4's disagrees */
+            double ratio = (person->box[3] - person->box[1]) / (sized[i] * stride);
+            if (!(ratio >= 1.0 / HEAD_HEIGHT_AGREEMENT && ratio <= HEAD_HEIGHT_AGREEMENT)) {
+                person->box[1] = person->centre[1] - sized[i] * stride / 2;
+                person->box[3] = person->centre[1] + sized[i] * stride / 2;
+            }
         }
         person->weak = !strong[i];
         person->head_found = 0;
