@@ -463,9 +463,8 @@ def _read(heatmaps: np.ndarray, config: DecodeConfig, expected_height_px: np.nda
              == np.arange(len(peaks))[:, None]) & within_reach
     centres = cells_to_input(centres_cells, stride)
     boxes = _boxes(centres, heights_px, keypoints, owned, mask_columns, config, prior)
-    # step 5: the size map's height, centred on the centre, where step 4's disagrees with it
-    with np.errstate(invalid="ignore"):  # NaN sizes: the decoder's box
-        ratio = (boxes[:, 3] - boxes[:, 1]) / (sized_cells * stride)
+    # step 5: the size map's height, centred on the centre, where step 4's disagrees with it (NaN: the decoder's box)
+    ratio = (boxes[:, 3] - boxes[:, 1]) / (sized_cells * stride)
     sized = np.isfinite(sized_cells) & ~((ratio >= 1.0 / HEAD_HEIGHT_AGREEMENT) & (ratio <= HEAD_HEIGHT_AGREEMENT))
     boxes[sized, 1] = centres[sized, 1] - sized_cells[sized] * stride / 2
     boxes[sized, 3] = centres[sized, 1] + sized_cells[sized] * stride / 2
