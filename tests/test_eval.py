@@ -66,6 +66,8 @@ def test_a_yolo_pose_model_is_letterboxed_and_suppressed(tmp_path):
     assert np.allclose(boxes[0], TRUE_BOX, atol=1e-3) and scores[0] == pytest.approx(0.9)
     assert keypoints.shape == (1, 17, 3)  # mapped back to frame pixels like the boxes
     assert np.allclose(keypoints[0, :, :2], (TRUE_BOX[:2] + TRUE_BOX[2:]) / 2, atol=1e-3)
+    # timed beside a bundle in one process, it must not spin-wait on the cores after its run
+    assert detector.session.get_session_options().get_session_config_entry("session.intra_op.allow_spinning") == "0"
 
 
 def test_non_max_suppression_keeps_the_best_of_each_overlap():
