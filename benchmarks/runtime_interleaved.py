@@ -23,6 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
+from benchmarks import display_path
+from vc.cores import cpu_facts
 from vc.deploy.frames import FrameRange, FrameSource
 from vc.deploy.runtime import Runtime
 from vc.errors import InputError
@@ -107,8 +109,9 @@ def main(argv: list[str] | None = None) -> int:
     except InputError as error:
         parser.error(str(error))
     seconds = interleaved_seconds(paths, frames, args.threads, args.passes)
-    result = {"bundles": dict(zip(labels, map(str, paths), strict=True)), "frames": len(frames),
-              "passes": args.passes, "threads": args.threads, **summary(labels, seconds)}
+    result = {"machine": cpu_facts()[0], "bundles": dict(zip(labels, map(display_path, paths), strict=True)),
+              "video": display_path(args.video), "frames": len(frames), "passes": args.passes,
+              "threads": args.threads, **summary(labels, seconds)}
     report(result, args.out)
     return 0
 
