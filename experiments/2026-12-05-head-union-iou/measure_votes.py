@@ -15,36 +15,26 @@ from __future__ import annotations
 
 import importlib.util
 import sys
-import threading
 from pathlib import Path
 
 import vc.deploy.decode as decode
 import vc.deploy.native as native
 
-_SHIPPED = importlib.util.spec_from_file_location(
-    "shipped_measure", Path(__file__).parent.parent / "2026-12-05-results-as-shipped" / "measure.py")
-shipped_measure = sys.modules["shipped_measure"] = importlib.util.module_from_spec(_SHIPPED)
-_SHIPPED.loader.exec_module(shipped_measure)
-_READ, _VOTE_CENTRES = decode._read, decode._vote_centres
-_reading = threading.local()  # .heads: whether this thread reads the heads
-
-
-def read_flagging_heads(*args, from_heads: bool, **kwargs):
-    _reading.heads = from_heads
-    try:
-        return _READ(*args, from_heads=from_heads, **kwargs)
-    finally:
-        _reading.heads = False
+HERE = Path(__file__).parent
+_WIDTHS = importlib.util.spec_from_file_location("measure_widths", HERE / "measure_widths.py")
+widths = sys.modules["measure_widths"] = importlib.util.module_from_spec(_WIDTHS)
+_WIDTHS.loader.exec_module(widths)  # its per-thread flag of the head reading, and results-as-shipped's measure
+_VOTE_CENTRES = decode._vote_centres
 
 
 def vote_centres_not_for_heads(*args, **kwargs):
-    if getattr(_reading, "heads", False):
+    if getattr(widths._reading, "heads", False):
         return {}, []
     return _VOTE_CENTRES(*args, **kwargs)
 
 
 if __name__ == "__main__":
-    decode._read, decode._vote_centres = read_flagging_heads, vote_centres_not_for_heads
+    decode._read, decode._vote_centres = widths.read_flagging_heads, vote_centres_not_for_heads
     native.decode_readings = decode.decode_readings
-    shipped_measure.RESULTS = Path(__file__).parent / "results" / "votes"
-    shipped_measure.main()
+    widths.shipped_measure.RESULTS = HERE / "results" / "votes"
+    widths.shipped_measure.main()
