@@ -30,7 +30,7 @@ from __future__ import annotations
 import numpy as np
 
 from vc.deploy.engines import onnxruntime_inference
-from vc.deploy.facing import FRAME_INPUT, ROIS_INPUT, crop_rois, own_parts
+from vc.deploy.facing import FRAME_INPUT, ROIS_INPUT, crop_rois, mirrored, own_parts
 from vc.deploy.heatmaps import PAIRS, swap_pairs
 
 #: The crop the keypoint model reads, width x height (pixels): twice the facing model's, as tall as a near person of
@@ -116,8 +116,8 @@ class CropPoseReader:
         if not len(boxes):
             return np.zeros((0, 17, 3), np.float64)
         rois = crop_rois(boxes)
-        maps = [(self._maps(*part) + mirrored_back(self._maps(*mirror))) / 2.0
-                for part, mirror in zip(own_parts(frame, rois), own_parts(frame, rois, mirror=True), strict=True)]
+        maps = [(self._maps(*part) + mirrored_back(self._maps(*mirrored(*part)))) / 2.0
+                for part in own_parts(frame, rois)]
         return keypoints_of_maps(np.concatenate(maps), rois)
 
     def _maps(self, part: np.ndarray, rois: np.ndarray) -> np.ndarray:
