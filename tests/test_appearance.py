@@ -8,8 +8,7 @@ from typing import get_args
 import colour
 import numpy as np
 
-import vc.render.appearance as appearance_module
-from vc.render.appearance import WARDROBES, Appearance, HairLengths, sample_appearance, vertex_albedo
+from vc.render.appearance import WARDROBES, Appearance, sample_appearance, vertex_albedo
 from vc.render.bodies import BODY_PARTS, Phenotype, sample_phenotype
 from vc.scenes.schema import Priors
 
@@ -56,30 +55,6 @@ def test_bald_heads_take_the_skin_colour_and_garments_end_where_parts_do() -> No
         assert a.part_albedo["shins"] in (a.part_albedo["skin"], a.part_albedo["lower"])
     assert 0.2 < np.mean([a.part_albedo["forearms"] == a.part_albedo["skin"] for a in sample]) < 0.5
     assert 0.05 < np.mean([a.part_albedo["shins"] == a.part_albedo["skin"] for a in sample]) < 0.25
-
-
-def test_long_hair_covers_the_nape_and_the_upper_back_as_often_as_asked(monkeypatch) -> None:
-    for a in appearances(300, seed=6):  # nobody's hair is long unless asked: the nape is skin, the back the garment
-        assert a.part_albedo["nape"] == a.part_albedo["skin"] and a.part_thickness_m["nape"] == 0.0
-        assert a.part_albedo["upper_back"] == a.part_albedo["upper"]
-        assert a.part_thickness_m["upper_back"] == a.part_thickness_m["upper"]
-    monkeypatch.setattr(appearance_module, "HAIR_LENGTHS", HairLengths(to_shoulders=(0.3, 0.0),
-                                                                        past_shoulders=(0.5, 0.0)))
-    women = appearances(2000, seed=6, gender=0.0, age_years=30.0)
-    to_shoulders = [a for a in women if a.part_albedo["nape"] == a.part_albedo["hair"] != a.part_albedo["upper_back"]]
-    past = [a for a in women if a.part_albedo["nape"] == a.part_albedo["upper_back"] == a.part_albedo["hair"]]
-    assert 0.25 < len(to_shoulders) / len(women) < 0.35 and 0.45 < len(past) / len(women) < 0.55
-    for a in past:  # hair lies over the garment
-        assert a.part_thickness_m["upper_back"] == a.part_thickness_m["upper"] + a.part_thickness_m["hair"] > 0.0
-    assert not any(a.part_albedo["nape"] == a.part_albedo["hair"] != a.part_albedo["skin"]
-                   for a in appearances(500, seed=6, gender=1.0, age_years=30.0))
-
-
-def test_no_long_hair_draws_no_number() -> None:
-    """Renders made before long hair existed keep their images: with nobody's hair long, no number is drawn."""
-    first, second = np.random.default_rng(3), np.random.default_rng(3)
-    assert HairLengths().draw(first, 0.3) == 0
-    assert first.random() == second.random()
 
 
 def test_clothing_is_mostly_dark_or_neutral() -> None:

@@ -85,30 +85,6 @@ SHOE_THICKNESS_M = (0.012, 0.03)
 
 
 @dataclass(frozen=True)
-class HairLengths:
-    """How often hair falls to the shoulders, over the nape and the ears, and past them, over the upper back too
-    (:data:`vc.render.bodies.BODY_PARTS`): each a woman's and a man's share; a person's ``gender`` mixes the two.
-    Bald people and people in a hat or hood have none."""
-
-    to_shoulders: tuple[float, float] = (0.0, 0.0)  # (woman, man)
-    past_shoulders: tuple[float, float] = (0.0, 0.0)
-
-    def draw(self, rng: np.random.Generator, male: float) -> int:
-        """0: short hair, 1: to the shoulders, 2: past them. No number is drawn where nobody has long hair, so
-        that such renders stay what they were."""
-        past = (1.0 - male) * self.past_shoulders[0] + male * self.past_shoulders[1]
-        to = (1.0 - male) * self.to_shoulders[0] + male * self.to_shoulders[1]
-        if past + to <= 0.0:
-            return 0
-        draw = rng.random()
-        return 2 if draw < past else 1 if draw < past + to else 0
-
-
-#: The hair lengths of every render's people.
-HAIR_LENGTHS = HairLengths()
-
-
-@dataclass(frozen=True)
 class Wardrobe:
     """What the people of a scene wear: garment palettes, how thick the upper garment is, how often arms and
     shins are bare, and how often (``headwear``) a hat or hood covers the hair, its colour from
@@ -182,16 +158,13 @@ def sample_appearance(rng: np.random.Generator, phenotype: Phenotype, wardrobe: 
         hair, bald = _jitter(rng, _pick(rng, wardrobe.headwear_colours), 0.15), False
     if bare_shins and rng.random() < DRESS * (1.0 - male):
         lower = upper
-    length = 0 if bald or headwear else HAIR_LENGTHS.draw(rng, male)
     albedo = {"skin": skin, "hair": skin if bald else hair, "upper": upper, "lower": lower, "shoes": shoes,
-              "forearms": skin if short_sleeves else upper, "shins": skin if bare_shins else lower,
-              "nape": hair if length else skin, "upper_back": hair if length == 2 else upper}
+              "forearms": skin if short_sleeves else upper, "shins": skin if bare_shins else lower}
     hair_m, upper_m, lower_m, shoes_m = (float(rng.uniform(*span)) for span in (
         HEADWEAR_THICKNESS_M if headwear else HAIR_THICKNESS_M, wardrobe.upper_thickness_m, LOWER_THICKNESS_M,
         SHOE_THICKNESS_M))
     thickness = {"skin": 0.0, "hair": 0.0 if bald else hair_m, "upper": upper_m, "lower": lower_m, "shoes": shoes_m,
-                 "forearms": 0.0 if short_sleeves else upper_m, "shins": 0.0 if bare_shins else lower_m,
-                 "nape": hair_m if length else 0.0, "upper_back": upper_m + hair_m if length == 2 else upper_m}
+                 "forearms": 0.0 if short_sleeves else upper_m, "shins": 0.0 if bare_shins else lower_m}
     return Appearance({part: tuple(float(c) for c in albedo[part]) for part in BODY_PARTS},
                       {part: thickness[part] for part in BODY_PARTS})
 

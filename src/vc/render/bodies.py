@@ -40,10 +40,8 @@ from vc.keypoints import COCO_KEYPOINTS
 #: the skin that short sleeves and shorts or skirts leave bare: the appearance colours them as skin or as the
 #: garment above them. Hands, face, ears and neck are ``skin``; ``hair`` is the scalp (top and back of the
 #: head above the ears and the nape); ``upper`` is torso and upper arms, ``lower`` pelvis and thighs,
-#: ``shoes`` the feet. ``nape`` (the ears, the head below the hairline behind them and the neck's sides and back)
-#: and ``upper_back`` (the back above the shoulder blades) are where hair falls when it is long: skin and the upper
-#: garment otherwise (:mod:`vc.render.appearance` decides).
-BODY_PARTS: tuple[str, ...] = ("skin", "hair", "upper", "lower", "shoes", "forearms", "shins", "nape", "upper_back")
+#: ``shoes`` the feet.
+BODY_PARTS: tuple[str, ...] = ("skin", "hair", "upper", "lower", "shoes", "forearms", "shins")
 
 #: The anny topology rendered (see the module docstring).
 TOPOLOGY = "notoes_collapse10pc"
@@ -427,10 +425,8 @@ def _vertex_parts(model: anny.Anny, stems: np.ndarray, template_keypoints: np.nd
     anny's UV segmentation only separates head, hands and feet (and is lost with the retopology); the skinning
     weights separate every limb segment, at the joints where sleeves and trouser legs end. The waistband is
     8 cm above the hip joints. The scalp is the head above a hairline that runs from the forehead (5.5 cm above
-    the eyes) over the ears (3 cm above their keypoint) down to the nape (4.5 cm below it). Below it, from 2 cm
-    before the ears back, and the neck from 1 cm behind them, is the nape that long hair covers; the upper back
-    it falls over is the torso behind the shoulders, within 12 cm of the spine and down to 15 cm below the
-    shoulders. All are set on anny's template, in its rest frame (facing -y).
+    the eyes) over the ears (3 cm above their keypoint) down to the nape (4.5 cm below it). All are set on
+    anny's template, in its rest frame (facing -y).
     """
     parts = np.array([BODY_PARTS.index(_BONE_PARTS.get(stem, "skin")) for stem in stems], dtype=np.uint8)
     vertices = model.template_vertices.numpy()
@@ -445,12 +441,5 @@ def _vertex_parts(model: anny.Anny, stems: np.ndarray, template_keypoints: np.nd
     behind_ear = vertices[:, 1] - ear[1]
     hairline = np.interp(behind_ear, [-0.06, -0.02, 0.01, 0.04],
                          [eye_z + 0.055, ear[2] + 0.03, ear[2] + 0.03, ear[2] - 0.045])
-    head = stems == "head"
-    parts[head & (vertices[:, 2] > hairline)] = BODY_PARTS.index("hair")
-
-    parts[(head & (vertices[:, 2] <= hairline) & (behind_ear > -0.02))
-          | ((stems == "neck") & (behind_ear > 0.01))] = BODY_PARTS.index("nape")
-    shoulder = 0.5 * (keypoint["left_shoulder"] + keypoint["right_shoulder"])
-    parts[(parts == BODY_PARTS.index("upper")) & (vertices[:, 1] > shoulder[1]) & (np.abs(vertices[:, 0]) < 0.12)
-          & (vertices[:, 2] > shoulder[2] - 0.15)] = BODY_PARTS.index("upper_back")
+    parts[(stems == "head") & (vertices[:, 2] > hairline)] = BODY_PARTS.index("hair")
     return parts
