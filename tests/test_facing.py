@@ -37,13 +37,9 @@ from vc.model.facing import (
     FACING_MODEL,
     FACING_REPORT,
     HEAD_ROWS,
-    MEMBERS,
-    Averaged,
     FacingCrops,
     FacingNet,
-    PersonCrops,
     TurnCrops,
-    averaged_facing,
     crop_graph,
     face_across,
     moved,
@@ -366,12 +362,7 @@ def test_a_run_keeps_its_facing_model_only_for_the_renders_and_seed_it_was_train
     def fake_head(train, held_out, seed):
         return train_head_colours(_crops(256, seed), _crops(64, 1), seed=seed)
 
-    def fake_crops(dataset):  # the members are measured together on the held-out crops
-        assert dataset == data
-        return (PersonCrops(_crops(64, 2), _turn_crops(64, 2)), PersonCrops(_crops(128, 1), _turn_crops(64, 1)))
-
     monkeypatch.setattr(stage, "MIN_FACING_CROPS", 0)
-    monkeypatch.setattr(stage, "dataset_crops", fake_crops)
     monkeypatch.setattr(stage, "train_facing", fake_train)
     monkeypatch.setattr(stage, "train_face_turn", fake_turn)
     monkeypatch.setattr(stage, "train_head_colours", fake_head)
@@ -382,30 +373,8 @@ def test_a_run_keeps_its_facing_model_only_for_the_renders_and_seed_it_was_train
     assert outputs[-1] == HEAD_OUTPUT
     assert stage.train_facing_model(data, run, seed=0, show_progress=False) == first  # resumed: kept
     stage.train_facing_model(data, run, seed=1, show_progress=False)  # another seed: trained again
-    assert trained_calls == [0, 1000, 2000, 1, 1001, 2001]  # MEMBERS members each, the first from the seed itself
+    assert trained_calls == [0, 1]
     assert json.loads((run / FACING_REPORT).read_text())["trained_on"]["seed"] == 1
-
-
-def test_the_facing_model_reads_the_mean_of_its_members(trained):
-    """The shipped graph's outputs are the members' mean (docs/decisions/0062): each person's front logit is what
-    the members read of them, averaged, and the report measures that mean."""
-    assert MEMBERS == 3
-    torch.set_num_threads(1)
-    members = [trained] + [train_facing(_crops(1024, 0), _crops(128, 1), seed=seed, epochs=1, show_progress=False)
-                           for seed in (4, 5)]
-    held_out = _crops(128, 1)
-    averaged = averaged_facing(members, held_out)
-    assert isinstance(averaged.net, Averaged) and averaged.seconds == pytest.approx(sum(m.seconds for m in members))
-    frame = np.zeros((100, 120, 3), np.uint8)
-    frame[20:40, 50:60] = (225, 185, 150)
-    boxes = np.array([[40.0, 15.0, 70.0, 95.0], [5.0, 5.0, 25.0, 60.0]])
-    read = [FacingReader(export_facing(member.net)).read(frame, boxes).front_logits for member in members]
-    np.testing.assert_allclose(FacingReader(export_facing(averaged.net)).read(frame, boxes).front_logits,
-                               np.mean(read, axis=0), rtol=1e-5, atol=1e-5)
-    with torch.no_grad():
-        logits = np.mean([member.net.eval()(torch.from_numpy(held_out.crops).permute(0, 3, 1, 2).float() / 255.0)
-                          .numpy() for member in members], axis=0)
-    assert averaged.held_out_accuracy == pytest.approx(float(((logits > 0) == held_out.front).mean()))
 
 
 @pytest.mark.parametrize(("nose_ahead", "labelled", "expected"), [

@@ -64,6 +64,9 @@ from vc.model.facing import (
     FACING_MODEL,
     FACING_OPSET,
     FACING_REPORT,
+    FaceTurnNet,
+    FacingNet,
+    HeadColours,
     crop_graph,
 )
 from vc.model.network import ScenePoseNet
@@ -117,7 +120,7 @@ class _FacingReaders(nn.Module):
     """The facing networks side by side on the same crops, for one export: the classifier, then those of the face
     turn and the head's colours that are given."""
 
-    def __init__(self, facing: nn.Module, turn: nn.Module | None, head: nn.Module | None) -> None:
+    def __init__(self, facing: FacingNet, turn: FaceTurnNet | None, head: HeadColours | None) -> None:
         super().__init__()
         self.readers = nn.ModuleList([reader for reader in (facing, turn, head) if reader is not None])
 
@@ -125,12 +128,10 @@ class _FacingReaders(nn.Module):
         return tuple(reader(crops) for reader in self.readers)
 
 
-def export_facing(net: nn.Module, turn: nn.Module | None = None, head: nn.Module | None = None) -> bytes:
+def export_facing(net: FacingNet, turn: FaceTurnNet | None = None, head: HeadColours | None = None) -> bytes:
     """The facing model as a bundle ships it (:mod:`vc.model.facing` step 5): :func:`crop_graph` feeding ``net``
-    (and ``turn`` and ``head`` where given: a :class:`~vc.model.facing.FacingNet`, :class:`~vc.model.facing.FaceTurnNet`
-    and :class:`~vc.model.facing.HeadColours`, or their members :class:`~vc.model.facing.Averaged`), the frame (1, H,
-    W, 3) uint8 and the crops' rectangles (N, 4) in, a front logit per person (N,) out (and where each face points,
-    (N,), and the head's front logit, (N,))."""
+    (and ``turn`` and ``head`` where given), the frame (1, H, W, 3) uint8 and the crops' rectangles (N, 4) in, a
+    front logit per person (N,) out (and where each face points, (N,), and the head's front logit, (N,))."""
     outputs = [FACING_OUTPUT] + [name for name, reader in ((ACROSS_OUTPUT, turn), (HEAD_OUTPUT, head))
                                  if reader is not None]
     module: nn.Module = net if len(outputs) == 1 else _FacingReaders(net, turn, head)

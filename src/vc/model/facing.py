@@ -76,10 +76,6 @@ MIN_FACING_CROPS = 1000
 CROP_SAMPLES = 2
 #: The crop graph's ONNX opset (RoiAlign's half-pixel coordinates came with 16).
 FACING_OPSET = 17
-#: The facing model is the mean of this many of each network, trained alike from their own seeds (:func:`member_seeds`):
-#: what one network reads of real people is much a matter of its seed, and their mean reads them better
-#: (docs/decisions/0062-the-facing-model-a-mean-of-three-not-kept.md).
-MEMBERS = 3
 #: Training schedule.
 EPOCHS = 8
 BATCH = 128
@@ -146,23 +142,6 @@ class HeadColours(nn.Module):
 
     def forward(self, crops: Tensor) -> Tensor:
         return self.logit(self.cells(crops)).squeeze(1)
-
-
-class Averaged(nn.Module):
-    """Networks that read the same crops, their outputs averaged: the facing model's members (:data:`MEMBERS`)."""
-
-    def __init__(self, members: list[nn.Module]) -> None:
-        super().__init__()
-        self.members = nn.ModuleList(members)
-
-    def forward(self, crops: Tensor) -> Tensor:
-        return torch.stack([member(crops) for member in self.members]).mean(dim=0)
-
-
-def member_seeds(seed: int) -> list[int]:
-    """The seeds the :data:`MEMBERS` members train from: the compile's seed for the first, as when the model was one
-    network, then seeds a thousand apart."""
-    return [seed + 1000 * member for member in range(MEMBERS)]
 
 
 def _stage(inputs: int, outputs: int) -> nn.Sequential:
@@ -333,7 +312,7 @@ def _batch(crops: np.ndarray) -> Tensor:
 
 @dataclass(frozen=True)
 class FacingResult:
-    net: nn.Module  # a FacingNet, or the members Averaged
+    net: FacingNet
     held_out_accuracy: float | None  # share of held-out people read the right way; None without any
     train_crops: int
     held_out_crops: int
@@ -347,7 +326,7 @@ class FacingResult:
 
 @dataclass(frozen=True)
 class FaceTurnResult:
-    net: nn.Module  # a FaceTurnNet, or the members Averaged
+    net: FaceTurnNet
     held_out_error: float | None  # mean absolute error of where the held-out faces point; None without any
     held_out_profile_sign: float | None  # share of held-out people in profile (|across| >= 0.5) read the right way
     train_crops: int
@@ -364,7 +343,7 @@ class FaceTurnResult:
 
 @dataclass(frozen=True)
 class HeadResult:
-    net: nn.Module  # a HeadColours, or the members Averaged
+    net: HeadColours
     held_out_accuracy: float | None  # share of held-out people read the right way; None without any
     held_out_auc: float | None  # how well its logit ranks them, front above behind
     train_crops: int
@@ -453,19 +432,14 @@ def train_face_turn(train: TurnCrops, held_out: TurnCrops, seed: int, epochs: in
     torch.manual_seed(seed)
     net = FaceTurnNet()
     _fit(net, train.crops, train.across, nn.MSELoss(), -1.0, seed, epochs, show_progress, "face turn")
-    return FaceTurnResult(net, *_turn_measures(net, held_out), len(train), len(held_out), time.perf_counter() - start)
-
-
-def _turn_measures(net: nn.Module, held_out: TurnCrops) -> tuple[float | None, float | None]:
-    """How far from the held-out faces' turn ``net`` reads them, and the share of those in profile (|across| >=
-    0.5) it reads the right way; None without any."""
-    if not len(held_out):
-        return None, None
-    read = _outputs(net, held_out.crops)
-    profile = np.abs(held_out.across) >= 0.5
-    profile_sign = (float((np.sign(read[profile]) == np.sign(held_out.across[profile])).mean()) if profile.any()
-                    else None)
-    return float(np.abs(read - held_out.across).mean()), profile_sign
+    error = profile_sign = None
+    if len(held_out):
+        read = _outputs(net, held_out.crops)
+        error = float(np.abs(read - held_out.across).mean())
+        profile = np.abs(held_out.across) >= 0.5
+        if profile.any():
+            profile_sign = float((np.sign(read[profile]) == np.sign(held_out.across[profile])).mean())
+    return FaceTurnResult(net, error, profile_sign, len(train), len(held_out), time.perf_counter() - start)
 
 
 def moved(crop: np.ndarray, rows: int, columns: int) -> np.ndarray:
@@ -509,32 +483,6 @@ def train_head_colours(train: FacingCrops, held_out: FacingCrops, seed: int) -> 
         return value
 
     optimiser.step(loss)
-    return HeadResult(net, *_head_measures(net, held_out), len(chosen), time.perf_counter() - start)
-
-
-def _head_measures(net: nn.Module, held_out: FacingCrops) -> tuple[float | None, float | None]:
-    """The share of the held-out people ``net`` reads the right way, and how well its logit ranks them."""
     read = _outputs(net, held_out.crops) if len(held_out) else np.zeros(0, np.float32)
-    return accuracy(net, held_out), ranking(read, held_out.front) if len(held_out) else None
-
-
-def averaged_facing(members: list[FacingResult], held_out: FacingCrops) -> FacingResult:
-    """The classifiers :func:`train_facing` trained as one model, their logits averaged, measured on ``held_out``
-    as each was."""
-    net = Averaged([member.net for member in members])
-    return FacingResult(net, accuracy(net, held_out), members[0].train_crops, members[0].held_out_crops,
-                        sum(member.seconds for member in members))
-
-
-def averaged_face_turn(members: list[FaceTurnResult], held_out: TurnCrops) -> FaceTurnResult:
-    """The face turns :func:`train_face_turn` trained as one model, measured on ``held_out`` as each was."""
-    net = Averaged([member.net for member in members])
-    return FaceTurnResult(net, *_turn_measures(net, held_out), members[0].train_crops, members[0].held_out_crops,
-                          sum(member.seconds for member in members))
-
-
-def averaged_head_colours(members: list[HeadResult], held_out: FacingCrops) -> HeadResult:
-    """The head readers :func:`train_head_colours` trained as one model, measured on ``held_out`` as each was."""
-    net = Averaged([member.net for member in members])
-    return HeadResult(net, *_head_measures(net, held_out), members[0].train_crops,
-                      sum(member.seconds for member in members))
+    return HeadResult(net, accuracy(net, held_out), ranking(read, held_out.front) if len(held_out) else None,
+                      len(chosen), time.perf_counter() - start)

@@ -31,13 +31,8 @@ from vc.model.export import export_crop_pose, export_facing
 from vc.model.facing import (
     FACING_MODEL,
     FACING_REPORT,
-    MEMBERS,
     MIN_FACING_CROPS,
-    averaged_face_turn,
-    averaged_facing,
-    averaged_head_colours,
     dataset_crops,
-    member_seeds,
     train_face_turn,
     train_facing,
     train_head_colours,
@@ -105,14 +100,12 @@ def train(dataset: Path, run: Path, settings: TrainSettings, region_names: list[
 
 def train_facing_model(dataset: Path, run: Path, seed: int, show_progress: bool = True) -> dict:
     """Train the facing model on ``dataset``'s renders into ``RUN/facing.onnx`` (:mod:`vc.model.facing`): the facing
-    classifier and, beside it, the face turn and the head's colours, each the mean of :data:`MEMBERS` networks. Or
-    keep the one an earlier invocation trained there on the same renders with the same seed; what it measured
-    (``RUN/facing.json``), or why there is none."""
+    classifier and, beside it, the face turn and the head's colours. Or keep the one an earlier invocation trained
+    there on the same renders with the same seed; what it measured (``RUN/facing.json``), or why there is none."""
     model, report = run / FACING_MODEL, run / FACING_REPORT
     manifest = read_manifest(dataset)
     trained_on = {"scene_hash": manifest["scene_hash"], "dataset_settings": manifest.get("settings"), "seed": seed,
-                  "reads": ["facing", "face turn", "head colours"],  # one that reads less is trained again
-                  "members": MEMBERS}
+                  "reads": ["facing", "face turn", "head colours"]}  # one that reads less is trained again
     if model.is_file() and report.is_file():
         earlier = json.loads(report.read_text())
         if earlier.get("trained_on") == trained_on:
@@ -121,15 +114,11 @@ def train_facing_model(dataset: Path, run: Path, seed: int, show_progress: bool 
     if len(train.facing) < MIN_FACING_CROPS:
         return {"skipped": f"{len(train.facing)} rendered people face the camera or away from it; the facing model "
                            f"needs {MIN_FACING_CROPS} or more (render more samples)"}
-    seeds = member_seeds(seed)
-    result = averaged_facing([train_facing(train.facing, held_out.facing, member, show_progress=show_progress)
-                              for member in seeds], held_out.facing)
-    head = averaged_head_colours([train_head_colours(train.facing, held_out.facing, member) for member in seeds],
-                                 held_out.facing)
+    result = train_facing(train.facing, held_out.facing, seed, show_progress=show_progress)
+    head = train_head_colours(train.facing, held_out.facing, seed)
     turn = None
     if len(train.turn) >= MIN_FACING_CROPS:
-        turn = averaged_face_turn([train_face_turn(train.turn, held_out.turn, member, show_progress=show_progress)
-                                   for member in seeds], held_out.turn)
+        turn = train_face_turn(train.turn, held_out.turn, seed, show_progress=show_progress)
     with atomic_path(model) as temporary:
         temporary.write_bytes(export_facing(result.net, None if turn is None else turn.net, head.net))
     turned = turn.to_dict() if turn is not None else {
