@@ -18,6 +18,8 @@ CONTROL = HERE.parent / "2026-12-05-head-union-iou" / "results" / "pose_agree.js
 ARMS = {"other_seeds_tud": "three compiles' facing models averaged (other renders)",
         "same_renders_tud": "three facing models of the compile's renders averaged (seeds S, S+1000, S+2000)",
         "mirror_tud": "tall people's mirrored crop read by a second model (seed S+1000)",
+        "distilled_tud": "one classifier trained to read as the three members' mean reads (distil.py)",
+        "distilled_pets": "one classifier trained to read as the three members' mean reads (distil.py)",
         "rebuilt_pets": "the product's facing model, three members in one graph",
         "rebuilt_tud": "the product's facing model, three members in one graph"}
 MODES = ("each frame", "tracked")
