@@ -37,6 +37,7 @@ from vc.model.facing import (
     FACING_MODEL,
     FACING_REPORT,
     HEAD_ROWS,
+    MEMBER_SEED_STRIDE,
     FacingCrops,
     FacingNet,
     TurnCrops,
@@ -44,6 +45,7 @@ from vc.model.facing import (
     face_across,
     moved,
     seen_from_front,
+    train_distilled_facing,
     train_face_turn,
     train_facing,
     train_head_colours,
@@ -142,6 +144,30 @@ def test_the_classifier_learns_which_way_people_face_and_the_same_seed_gives_the
     torch.set_num_threads(1)  # as the fixture trained: other tests' training sets the machine's
     again = train_facing(_crops(1024, 0), _crops(128, 1), seed=3, epochs=4, show_progress=False)
     for mine, theirs in zip(trained.net.state_dict().values(), again.net.state_dict().values(), strict=True):
+        assert torch.equal(mine, theirs)
+
+
+def test_the_distilled_classifier_learns_from_members_of_their_own_seeds_and_the_same_seed_gives_the_same_weights(
+        monkeypatch):
+    import vc.model.facing as facing
+
+    torch.set_num_threads(1)
+    seeds = []
+
+    def recorded(train, held_out, seed, epochs, show_progress):
+        seeds.append(seed)
+        return train_facing(train, held_out, seed, epochs, show_progress)
+
+    monkeypatch.setattr(facing, "train_facing", recorded)
+    distilled = train_distilled_facing(_crops(1024, 0), _crops(128, 1), seed=3, members=2, epochs=4,
+                                       show_progress=False)
+    assert seeds == [3, 3 + MEMBER_SEED_STRIDE]
+    assert len(distilled.members_held_out_accuracy) == 2
+    assert distilled.held_out_accuracy >= 0.95
+    measured = distilled.to_dict()["members_held_out_accuracy"]
+    assert measured == [round(share, 4) for share in distilled.members_held_out_accuracy]
+    again = train_distilled_facing(_crops(1024, 0), _crops(128, 1), seed=3, members=2, epochs=4, show_progress=False)
+    for mine, theirs in zip(distilled.net.state_dict().values(), again.net.state_dict().values(), strict=True):
         assert torch.equal(mine, theirs)
 
 
@@ -352,7 +378,7 @@ def test_a_run_keeps_its_facing_model_only_for_the_renders_and_seed_it_was_train
     data = write_dataset(tmp_path / "dataset")
     trained_calls = []
 
-    def fake_train(train, held_out, seed, show_progress=True):
+    def fake_train(train, held_out, seed, show_progress=True):  # as train_distilled_facing is called
         trained_calls.append(seed)
         return train_facing(_crops(1024, seed), _crops(128, 1), seed=seed, epochs=1, show_progress=False)
 
@@ -363,7 +389,7 @@ def test_a_run_keeps_its_facing_model_only_for_the_renders_and_seed_it_was_train
         return train_head_colours(_crops(256, seed), _crops(64, 1), seed=seed)
 
     monkeypatch.setattr(stage, "MIN_FACING_CROPS", 0)
-    monkeypatch.setattr(stage, "train_facing", fake_train)
+    monkeypatch.setattr(stage, "train_distilled_facing", fake_train)
     monkeypatch.setattr(stage, "train_face_turn", fake_turn)
     monkeypatch.setattr(stage, "train_head_colours", fake_head)
     run = tmp_path / "run"

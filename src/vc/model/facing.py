@@ -23,7 +23,11 @@ reads it on real people as it does on renders (docs/decisions/0038-the-face-turn
    the face the other way).
 3. **Training**: :class:`FacingNet` with binary cross-entropy, and :class:`FaceTurnNet` with the squared error of
    where the face points, each with AdamW and a one-cycle schedule, seeded; the dataset's held-out shards (the
-   region networks' own) measure them.
+   region networks' own) measure them. The classifier a compile ships is distilled
+   (:func:`train_distilled_facing`): :data:`MEMBERS` classifiers trained from their own seeds, then one trained the
+   same way to each crop's mean probability of a front over them. Which real people one classifier reads the wrong
+   way round depends much on its seed; the members' mean depends less on it, and one network that learnt it costs
+   one network's time (docs/decisions/0063-the-facing-classifier-distilled-from-three.md).
 4. **The head's colours** (:class:`HeadColours`): front from behind read a second way, by a linear model that sees
    only where the head's window of the crop is lighter or darker, trained on the same crops
    (:func:`train_head_colours`).
@@ -78,6 +82,8 @@ CROP_SAMPLES = 2
 FACING_OPSET = 17
 #: Training schedule.
 EPOCHS = 8
+#: The shipped classifier learns the mean of this many, trained from seeds this far apart (step 3).
+MEMBERS, MEMBER_SEED_STRIDE = 3, 1000
 BATCH = 128
 LEARNING_RATE = 3e-3
 #: The head's window in the crop (rows, then columns, of the 64 x 32 crop): the head of a person framed by their box,
@@ -310,6 +316,10 @@ def _batch(crops: np.ndarray) -> Tensor:
     return torch.from_numpy(np.ascontiguousarray(crops)).permute(0, 3, 1, 2).float() / 255.0
 
 
+def _rounded(share: float | None) -> float | None:
+    return None if share is None else round(share, 4)
+
+
 @dataclass(frozen=True)
 class FacingResult:
     net: FacingNet
@@ -317,11 +327,14 @@ class FacingResult:
     train_crops: int
     held_out_crops: int
     seconds: float
+    members_held_out_accuracy: tuple[float | None, ...] = ()  # the members' it learnt from, where distilled
 
     def to_dict(self) -> dict:
-        return {"held_out_accuracy": None if self.held_out_accuracy is None else round(self.held_out_accuracy, 4),
-                "train_crops": self.train_crops, "held_out_crops": self.held_out_crops,
-                "seconds": round(self.seconds, 1)}
+        measured = {"held_out_accuracy": _rounded(self.held_out_accuracy), "train_crops": self.train_crops,
+                    "held_out_crops": self.held_out_crops, "seconds": round(self.seconds, 1)}
+        if self.members_held_out_accuracy:
+            measured["members_held_out_accuracy"] = [_rounded(share) for share in self.members_held_out_accuracy]
+        return measured
 
 
 @dataclass(frozen=True)
@@ -419,6 +432,23 @@ def train_facing(train: FacingCrops, held_out: FacingCrops, seed: int, epochs: i
     net = FacingNet()
     _fit(net, train.crops, train.front, nn.BCEWithLogitsLoss(), 1.0, seed, epochs, show_progress, "facing")
     return FacingResult(net, accuracy(net, held_out), len(train), len(held_out), time.perf_counter() - start)
+
+
+def train_distilled_facing(train: FacingCrops, held_out: FacingCrops, seed: int, members: int = MEMBERS,
+                           epochs: int = EPOCHS, show_progress: bool = True) -> FacingResult:
+    """Train ``members`` classifiers as :func:`train_facing` does, from seeds ``seed``, ``seed`` +
+    :data:`MEMBER_SEED_STRIDE`, ..., then one :class:`FacingNet` from ``seed`` on each training crop's mean
+    probability of a front over them instead of its label, and measure it on ``held_out`` (step 3). The same
+    ``seed`` gives the same weights on one kind of CPU."""
+    start = time.perf_counter()
+    trained = [train_facing(train, held_out, seed + index * MEMBER_SEED_STRIDE, epochs, show_progress)
+               for index in range(members)]
+    fronts = np.mean([1.0 / (1.0 + np.exp(-_outputs(member.net, train.crops))) for member in trained], axis=0)
+    torch.manual_seed(seed)
+    net = FacingNet()
+    _fit(net, train.crops, fronts, nn.BCEWithLogitsLoss(), 1.0, seed, epochs, show_progress, "facing, distilled")
+    return FacingResult(net, accuracy(net, held_out), len(train), len(held_out), time.perf_counter() - start,
+                        tuple(member.held_out_accuracy for member in trained))
 
 
 def train_face_turn(train: TurnCrops, held_out: TurnCrops, seed: int, epochs: int = EPOCHS,

@@ -31,10 +31,11 @@ from vc.model.export import export_crop_pose, export_facing
 from vc.model.facing import (
     FACING_MODEL,
     FACING_REPORT,
+    MEMBERS,
     MIN_FACING_CROPS,
     dataset_crops,
+    train_distilled_facing,
     train_face_turn,
-    train_facing,
     train_head_colours,
 )
 from vc.model.trainer import RegionResult, TrainConfig, data_workers, select_device
@@ -105,7 +106,8 @@ def train_facing_model(dataset: Path, run: Path, seed: int, show_progress: bool 
     model, report = run / FACING_MODEL, run / FACING_REPORT
     manifest = read_manifest(dataset)
     trained_on = {"scene_hash": manifest["scene_hash"], "dataset_settings": manifest.get("settings"), "seed": seed,
-                  "reads": ["facing", "face turn", "head colours"]}  # one that reads less is trained again
+                  "reads": ["facing", "face turn", "head colours"],  # one that reads less is trained again
+                  "facing_members": MEMBERS}  # one not distilled from as many is trained again
     if model.is_file() and report.is_file():
         earlier = json.loads(report.read_text())
         if earlier.get("trained_on") == trained_on:
@@ -114,7 +116,7 @@ def train_facing_model(dataset: Path, run: Path, seed: int, show_progress: bool 
     if len(train.facing) < MIN_FACING_CROPS:
         return {"skipped": f"{len(train.facing)} rendered people face the camera or away from it; the facing model "
                            f"needs {MIN_FACING_CROPS} or more (render more samples)"}
-    result = train_facing(train.facing, held_out.facing, seed, show_progress=show_progress)
+    result = train_distilled_facing(train.facing, held_out.facing, seed, show_progress=show_progress)
     head = train_head_colours(train.facing, held_out.facing, seed)
     turn = None
     if len(train.turn) >= MIN_FACING_CROPS:
