@@ -12,6 +12,8 @@ bring the head map's duplicate peaks with them (0060's "replaced by them": -0.01
 - ``weak_heads``: each person read from the heads that ``with_heads_added`` drops is kept, flagged ``weak``: a
   tracker takes them only where they continue a track seen at least three times that no strong person continued
   (tracking step 1b), and drops them elsewhere; each frame on its own reports no weak person, so it is unchanged.
+- ``weak_heads_apart_R``: only those whose head lies at least R of each kept strong person's height from that
+  person's head (R = 0.1, 0.25).
 
 Everything else is as shipped. Measured as ``../2026-12-04-winter-clothing/measure.py`` measures (``vc-eval``,
 both halves, tracked and each frame); writes ``results/CAMERA_ARM/seedS_HALF.json``.
