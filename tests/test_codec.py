@@ -33,6 +33,7 @@ from vc.deploy.heatmaps import (
     FINE_CENTRE_CHANNELS,
     FINE_CHANNELS,
     HANDEDNESS_CHANNELS,
+    HEAD_CHANNEL,
     HEATMAP_CHANNELS,
     KEYPOINT_CHANNELS,
     MASK_CHANNEL,
@@ -105,6 +106,27 @@ def test_encoded_maps_have_unit_peaks_at_the_labels_and_the_mask_is_coverage() -
     assert heatmaps[:HANDEDNESS_CHANNELS.start].min() >= 0.0  # handedness alone is signed
     assert len(find_peaks(heatmaps[CENTRE_CHANNEL], 0.3)) == 3
     assert heatmaps[MASK_CHANNEL].mean() == pytest.approx((instances > 0).mean())
+
+
+def test_people_drawn_together_are_each_drawn_as_alone_combined_by_maximum() -> None:
+    # A fourth person standing in front of the first: their Gaussians overlap, and they share cells.
+    people = [*PEOPLE, _person((75.2, 99.1), 90.0, 4)]
+    instances = _instances(people)
+    config = CodecConfig(stride=STRIDE, centre_offsets=True, fine_centre=True, head_map=True)
+    together = encode(people, instances, config)
+    alone = np.stack([encode([person], instances, config) for person in people])
+    gaussian = [CENTRE_CHANNEL, *range(KEYPOINT_CHANNELS.start, KEYPOINT_CHANNELS.stop),
+                *range(FINE_CENTRE_CHANNELS.start, FINE_CENTRE_CHANNELS.stop), HEAD_CHANNEL]
+    assert np.array_equal(together[gaussian], alone[:, gaussian].max(axis=0))
+    # Each person's share of a cell is the mean over its pixels, exactly, and the mask everyone's.
+    cells = (HEIGHT // STRIDE, STRIDE, WIDTH // STRIDE, STRIDE)
+    assert np.array_equal(together[MASK_CHANNEL], (instances > 0).reshape(cells).mean(axis=(1, 3), dtype=np.float32))
+    shares = [(instances == person["instance_id"]).reshape(cells).mean(axis=(1, 3), dtype=np.float32)
+              for person in people]
+    handedness = np.zeros_like(together[HANDEDNESS_CHANNELS])
+    for person, share in zip(people, shares, strict=True):
+        handedness += share[None] * np.where(person["left_is_image_left"], 1.0, -1.0).astype(np.float32)[:, None, None]
+    assert np.array_equal(together[HANDEDNESS_CHANNELS], handedness)
 
 
 def test_pairs_are_stored_in_image_order_and_handedness_covers_the_person() -> None:

@@ -41,6 +41,7 @@ from vc.model.facing import (
     FacingCrops,
     FacingNet,
     TurnCrops,
+    camera_look,
     crop_graph,
     face_across,
     moved,
@@ -186,6 +187,18 @@ def test_the_head_reader_sees_only_the_head_and_not_how_bright_the_frame_is(head
     np.testing.assert_allclose(_head_logits(headed, clothed), logits, atol=1e-5)
     dimmer = np.rint(crops * 0.5 + 20).astype(np.uint8)  # a stop darker, and a little veiled
     np.testing.assert_allclose(_head_logits(headed, dimmer), logits, atol=0.1 * np.abs(logits).max())
+
+
+def test_the_camera_s_look_is_drawn_from_the_generator_alone_and_leaves_the_crop_as_it_was():
+    crop = np.random.default_rng(3).integers(0, 256, (64, 32, 3), dtype=np.uint8)
+    kept = crop.copy()
+    looks = [camera_look(crop, np.random.default_rng(seed)) for seed in range(40)]
+    again = [camera_look(crop, np.random.default_rng(seed)) for seed in range(40)]
+    assert all(look.shape == crop.shape and look.dtype == np.uint8 for look in looks)
+    assert all(np.array_equal(look, repeated) for look, repeated in zip(looks, again, strict=True))
+    np.testing.assert_array_equal(crop, kept)
+    grey = [look for look in looks if (look == look[..., :1]).all()]
+    assert 4 <= len(grey) <= 24  # monochrome three times in ten
 
 
 def test_a_crop_moved_is_filled_from_its_own_edge():

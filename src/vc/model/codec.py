@@ -26,6 +26,7 @@ Several people combine by maximum (Gaussians) so that neighbours do not merge in
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -44,6 +45,7 @@ from vc.deploy.heatmaps import (
     KEYPOINT_CHANNELS,
     MASK_CHANNEL,
     OFFSET_CHANNELS,
+    PAIRS,
     SIZE_CHANNEL,
     SIZE_UNIT_CELLS,
     cells_to_fine,
@@ -96,25 +98,29 @@ class CodecConfig:
         return asdict(self)
 
 
-def _draw_gaussians(heatmaps: np.ndarray, channels: np.ndarray, centres: np.ndarray, sigma: float) -> None:
-    """Max-combine a unit-peak Gaussian (cell units) of ``sigma`` into each of the maps ``heatmaps[channels]``
-    ((K,) of (C, h, w)) at its centre (K, 2), truncated to its support. The K Gaussians are evaluated in one array
-    (a person's keypoints share their sigma): the loader's time is the training step's on a CPU."""
+def _draw_gaussians(heatmaps: np.ndarray, channels: np.ndarray, centres: np.ndarray, sigmas: Sequence[float]) -> None:
+    """Max-combine a unit-peak Gaussian (cell units) into each of the maps ``heatmaps[channels]`` ((K,) of
+    (C, h, w)) at its centre (K, 2), of its sigma (K,), truncated to its support. The K Gaussians are evaluated
+    and combined in one call: the loader's time is the training step's on a CPU, and a window holds a dozen people
+    of a dozen maps each. Each value is the one the Gaussian would draw alone."""
     _, height, width = heatmaps.shape
-    reach = TRUNCATE_SIGMAS * sigma
-    x0 = np.floor(centres[:, 0] - reach).astype(int)
-    y0 = np.floor(centres[:, 1] - reach).astype(int)
-    x1 = np.ceil(centres[:, 0] + reach).astype(int) + 1
-    y1 = np.ceil(centres[:, 1] + reach).astype(int) + 1
-    size = int(max((x1 - x0).max(initial=0), (y1 - y0).max(initial=0)))
-    xs = (x0[:, None] + np.arange(size)) - centres[:, 0, None]  # (K, size): each window cell minus the centre
-    ys = (y0[:, None] + np.arange(size)) - centres[:, 1, None]
-    gaussians = np.exp(-(ys[:, :, None] ** 2 + xs[:, None, :] ** 2) / (2.0 * sigma**2)).astype(np.float32)
-    for channel, gaussian, left, top, right, bottom in zip(channels, gaussians, x0, y0, x1, y1, strict=True):
-        cx0, cx1, cy0, cy1 = max(left, 0), min(right, width), max(top, 0), min(bottom, height)
-        if cx0 < cx1 and cy0 < cy1:
-            window = heatmaps[channel, cy0:cy1, cx0:cx1]
-            np.maximum(window, gaussian[cy0 - top:cy1 - top, cx0 - left:cx1 - left], out=window)
+    if not len(centres):
+        return
+    sigmas = np.asarray(sigmas, np.float64)
+    # Python floats squared as ever (pow, where numpy squares by multiplying), so the targets keep their bytes.
+    denominators = np.array([2.0 * float(sigma) ** 2 for sigma in sigmas])
+    reach = TRUNCATE_SIGMAS * sigmas
+    x0, y0 = np.floor(centres[:, 0] - reach).astype(int), np.floor(centres[:, 1] - reach).astype(int)
+    x1, y1 = np.ceil(centres[:, 0] + reach).astype(int) + 1, np.ceil(centres[:, 1] + reach).astype(int) + 1
+    size = int(max((x1 - x0).max(), (y1 - y0).max()))
+    columns, rows = x0[:, None] + np.arange(size), y0[:, None] + np.arange(size)  # (K, size): each window's cells
+    xs, ys = columns - centres[:, 0, None], rows - centres[:, 1, None]  # minus the centre
+    # Each Gaussian's own support inside the maps (the cells it would have drawn alone), and its values there.
+    inside = ((rows >= np.maximum(y0, 0)[:, None]) & (rows < np.minimum(y1, height)[:, None]))[:, :, None] & (
+        (columns >= np.maximum(x0, 0)[:, None]) & (columns < np.minimum(x1, width)[:, None]))[:, None, :]
+    drawn, row, column = np.nonzero(inside)
+    values = np.exp(-(ys[drawn, row] ** 2 + xs[drawn, column] ** 2) / denominators[drawn]).astype(np.float32)
+    np.maximum.at(heatmaps, (np.asarray(channels)[drawn], rows[drawn, row], columns[drawn, column]), values)
 
 
 def person_height_px(annotation: dict) -> float:
@@ -132,79 +138,107 @@ def head_point(annotation: dict) -> np.ndarray:
 
 def encode(annotations: list[dict], instances: np.ndarray, config: CodecConfig = CodecConfig()) -> np.ndarray:
     """Heat maps (config.channels, H/stride, W/stride) float32 for one sample: its annotations and (H, W)
-    instance mask."""
+    instance mask. Each kind of map is drawn for everyone at once (the loader's time is the step's on a CPU)."""
     height, width = instances.shape
     stride = config.stride
     if height % stride or width % stride:
         raise ValueError(f"input {width}x{height} is not a multiple of the output stride {stride}")
     cells = (height // stride, width // stride)
     heatmaps = np.zeros((config.channels, *cells), np.float32)
-    fine = np.zeros((1, FINE_FACTOR * cells[0], FINE_FACTOR * cells[1]), np.float32) if config.fine_centre else None
-    for annotation in annotations:
-        size_cells = person_height_px(annotation) / stride
-        if annotation.get("center") is not None:
-            sigma = max(config.centre_sigma * size_cells, config.min_sigma_cells)
-            _draw_gaussians(heatmaps, np.array([CENTRE_CHANNEL]), input_to_cells([annotation["center"]], stride),
-                            sigma)
-            if fine is not None:
-                _draw_gaussians(fine, np.array([0]), cells_to_fine(input_to_cells([annotation["center"]], stride)),
-                                max(config.centre_sigma * size_cells * FINE_FACTOR, config.min_sigma_cells))
-            if config.head_map:
-                _draw_gaussians(heatmaps, np.array([HEAD_CHANNEL]), input_to_cells([head_point(annotation)], stride),
-                                max(config.head_sigma * size_cells, config.min_sigma_cells))
-        sigma = max(config.keypoint_sigma * size_cells, config.min_sigma_cells)
-        keypoints = np.asarray(annotation["keypoints"], np.float64).reshape(-1, 3)
-        if annotation.get("left_is_image_left") is not None:
-            keypoints = swap_pairs(keypoints, np.logical_not(annotation["left_is_image_left"]))
-        labelled = np.flatnonzero(keypoints[:, 2] > 0)
-        if len(labelled):
-            _draw_gaussians(heatmaps, KEYPOINT_CHANNELS.start + labelled,
-                            input_to_cells(keypoints[labelled, :2], stride), sigma)
-    covered = (instances > 0).astype(np.float32)
-    heatmaps[MASK_CHANNEL] = covered.reshape(cells[0], stride, cells[1], stride).mean(axis=(1, 3))
-    coverages = {}  # each person's share of each cell, for the maps drawn over their pixels
-    for annotation in annotations:
-        if annotation.get("left_is_image_left") is not None or config.centre_offsets:
-            coverages[id(annotation)] = (instances == annotation["instance_id"]).reshape(
-                cells[0], stride, cells[1], stride).mean(axis=(1, 3), dtype=np.float32)
-    for annotation in annotations:
-        if annotation.get("left_is_image_left") is None:
-            continue
-        sign = np.where(annotation["left_is_image_left"], 1.0, -1.0).astype(np.float32)
-        heatmaps[HANDEDNESS_CHANNELS] += coverages[id(annotation)][None] * sign[:, None, None]
+    sizes = [person_height_px(annotation) / stride for annotation in annotations]  # heights in cells
+    centred = [k for k, annotation in enumerate(annotations) if annotation.get("center") is not None]
+    if centred:
+        centres = input_to_cells([annotations[k]["center"] for k in centred], stride)
+        _draw_gaussians(heatmaps, np.full(len(centred), CENTRE_CHANNEL), centres,
+                        [max(config.centre_sigma * sizes[k], config.min_sigma_cells) for k in centred])
+        if config.fine_centre:
+            fine = np.zeros((1, FINE_FACTOR * cells[0], FINE_FACTOR * cells[1]), np.float32)
+            _draw_gaussians(fine, np.zeros(len(centred), int), cells_to_fine(centres),
+                            [max(config.centre_sigma * sizes[k] * FINE_FACTOR, config.min_sigma_cells)
+                             for k in centred])
+            heatmaps[FINE_CENTRE_CHANNELS] = fine_centre_channels(fine[0])
+        if config.head_map:
+            _draw_gaussians(heatmaps, np.full(len(centred), HEAD_CHANNEL),
+                            input_to_cells([head_point(annotations[k]) for k in centred], stride),
+                            [max(config.head_sigma * sizes[k], config.min_sigma_cells) for k in centred])
+    if annotations:
+        _draw_keypoints(heatmaps, annotations, sizes, config)
+    cell_of_pixel = (np.arange(height)[:, None] // stride * cells[1] + np.arange(width) // stride).ravel()
+    heatmaps[MASK_CHANNEL] = _cell_shares(cell_of_pixel[(instances > 0).ravel()], cells, stride)
+    handed = [annotation.get("left_is_image_left") is not None for annotation in annotations]
+    if not (config.centre_offsets or any(handed)):
+        return heatmaps
+    shares = _people_shares(annotations, instances, cell_of_pixel, cells, stride)  # each person's share of each cell
+    for annotation, share, flagged in zip(annotations, shares, handed, strict=True):
+        if flagged:
+            sign = np.where(annotation["left_is_image_left"], 1.0, -1.0).astype(np.float32)
+            heatmaps[HANDEDNESS_CHANNELS] += share[None] * sign[:, None, None]
     if config.centre_offsets:
-        _draw_centre_offsets(heatmaps[CENTRE_OFFSET_CHANNELS], annotations, coverages, stride)
+        _draw_centre_offsets(heatmaps[CENTRE_OFFSET_CHANNELS], annotations, shares, stride)
     if config.head_map:
-        _draw_sizes(heatmaps[SIZE_CHANNEL], annotations, coverages, stride)
-    if fine is not None:
-        heatmaps[FINE_CENTRE_CHANNELS] = fine_centre_channels(fine[0])
+        _draw_sizes(heatmaps[SIZE_CHANNEL], annotations, shares, stride)
     return heatmaps
 
 
-def _draw_centre_offsets(offsets: np.ndarray, annotations: list[dict], coverages: dict[int, np.ndarray],
-                         stride: int) -> None:
+def _draw_keypoints(heatmaps: np.ndarray, annotations: list[dict], sizes: list[float], config: CodecConfig) -> None:
+    """Everyone's labelled keypoints, image-ordered where the annotation says how (:func:`swap_pairs`), each
+    person's Gaussians of their own sigma."""
+    keypoints = np.array([annotation["keypoints"] for annotation in annotations], np.float64).reshape(
+        len(annotations), -1, 3)
+    flags = [annotation.get("left_is_image_left") for annotation in annotations]
+    keypoints = swap_pairs(keypoints, [np.logical_not(flag) if flag is not None else np.zeros(len(PAIRS), bool)
+                                       for flag in flags])
+    people, labelled = np.nonzero(keypoints[:, :, 2] > 0)
+    sigmas = [max(config.keypoint_sigma * size, config.min_sigma_cells) for size in sizes]
+    _draw_gaussians(heatmaps, KEYPOINT_CHANNELS.start + labelled,
+                    input_to_cells(keypoints[people, labelled, :2], config.stride), [sigmas[k] for k in people])
+
+
+def _cell_shares(cell_of_pixel: np.ndarray, cells: tuple[int, int], stride: int) -> np.ndarray:
+    """(h, w) float32: the share of each cell's stride x stride pixels among ``cell_of_pixel`` (flat cell indices,
+    one a pixel), as the mean over the cell's pixels gives it."""
+    counts = np.bincount(cell_of_pixel, minlength=cells[0] * cells[1])
+    return (counts.astype(np.float32) / np.float32(stride * stride)).reshape(cells)
+
+
+def _people_shares(annotations: list[dict], instances: np.ndarray, cell_of_pixel: np.ndarray,
+                   cells: tuple[int, int], stride: int) -> np.ndarray:
+    """(N, h, w) float32: each annotation's share of each cell (its ``instance_id``'s pixels), in one pass over the
+    instance mask."""
+    ids = np.array([annotation["instance_id"] for annotation in annotations], np.int64)
+    lookup = np.full(max(int(instances.max(initial=0)), int(ids.max(initial=0))) + 1, len(annotations), np.int64)
+    lookup[ids] = np.arange(len(annotations))
+    person = lookup[instances].ravel()  # each pixel's annotation; len(annotations) for nobody's
+    ours = person < len(annotations)
+    counts = np.bincount(person[ours] * (cells[0] * cells[1]) + cell_of_pixel[ours],
+                         minlength=len(annotations) * cells[0] * cells[1])
+    return (counts.astype(np.float32) / np.float32(stride * stride)).reshape(len(annotations), *cells)
+
+
+def _draw_centre_offsets(offsets: np.ndarray, annotations: list[dict], shares: np.ndarray, stride: int) -> None:
     """Fill ``offsets`` (2, h, w): at each cell, (centre - cell) / height (cells) of the person who covers most of
-    it. People without a centre (none projected) cover their cells without an offset to learn (0, as off people)."""
-    centred = [annotation for annotation in annotations if annotation.get("center") is not None]
+    it (``shares``: each annotation's share of each cell). People without a centre (none projected) cover their
+    cells without an offset to learn (0, as off people)."""
+    centred = [k for k, annotation in enumerate(annotations) if annotation.get("center") is not None]
     if not centred:
         return
-    shares = np.stack([coverages[id(annotation)] for annotation in centred])  # (N, h, w)
-    owner = shares.argmax(axis=0)
-    owned = shares.max(axis=0) > 0
-    centres = input_to_cells(np.array([annotation["center"] for annotation in centred]), stride)  # (N, 2)
-    heights = np.array([person_height_px(annotation) / stride for annotation in centred])  # (N,)
+    covering = shares[centred]  # (N, h, w)
+    owner = covering.argmax(axis=0)
+    owned = covering.max(axis=0) > 0
+    centres = input_to_cells(np.array([annotations[k]["center"] for k in centred]), stride)  # (N, 2)
+    heights = np.array([person_height_px(annotations[k]) / stride for k in centred])  # (N,)
     rows, columns = np.nonzero(owned)
     people = owner[rows, columns]
     offsets[0, rows, columns] = (centres[people, 0] - columns) / heights[people]
     offsets[1, rows, columns] = (centres[people, 1] - rows) / heights[people]
 
 
-def _draw_sizes(sizes: np.ndarray, annotations: list[dict], coverages: dict[int, np.ndarray], stride: int) -> None:
+def _draw_sizes(sizes: np.ndarray, annotations: list[dict], shares: np.ndarray, stride: int) -> None:
     """Fill ``sizes`` (h, w): at each cell, log(height / SIZE_UNIT_CELLS) (cells) of the person who covers most of
-    it; 0 where nobody does (the loss does not weigh those cells)."""
+    it (``shares``: each annotation's share of each cell); 0 where nobody does (the loss does not weigh those
+    cells)."""
     if not annotations:
         return
-    shares = np.stack([coverages[id(annotation)] for annotation in annotations])  # (N, h, w)
     owner, owned = shares.argmax(axis=0), shares.max(axis=0) > 0
     logs = np.log(np.array([person_height_px(annotation) / stride for annotation in annotations]) / SIZE_UNIT_CELLS)
     sizes[owned] = logs[owner[owned]]
