@@ -15,7 +15,7 @@ from vc.stages.config import read_config
 from vc.stages.executors import RegionTask, train_region
 from vc.stages.train import prepare_training
 
-run = Path("/work/runs/tud_s0"); out = Path("/tmp/retrain_r1")
+run, out = Path("/work/runs/tud_s0"), Path("/tmp/retrain_r1")
 job = prepare_training(run / "renders", read_config(run / "compile_config.yaml").train, ["r1"])
 result = train_region(RegionTask(run / "renders", "r1", job.config, out, job.workers))
 new = torch.load(out / "checkpoints" / "r1.pt", weights_only=False)
