@@ -174,7 +174,8 @@ def encode(annotations: list[dict], instances: np.ndarray, config: CodecConfig =
             sign = np.where(annotation["left_is_image_left"], 1.0, -1.0).astype(np.float32)
             heatmaps[HANDEDNESS_CHANNELS] += share[None] * sign[:, None, None]
     if config.centre_offsets:
-        _draw_centre_offsets(heatmaps[CENTRE_OFFSET_CHANNELS], annotations, shares, stride)
+        _draw_centre_offsets(heatmaps[CENTRE_OFFSET_CHANNELS], [annotations[k] for k in centred], shares[centred],
+                             stride)
     if config.head_map:
         _draw_sizes(heatmaps[SIZE_CHANNEL], annotations, shares, stride)
     return heatmaps
@@ -215,18 +216,16 @@ def _people_shares(annotations: list[dict], instances: np.ndarray, cell_of_pixel
     return (counts.astype(np.float32) / np.float32(stride * stride)).reshape(len(annotations), *cells)
 
 
-def _draw_centre_offsets(offsets: np.ndarray, annotations: list[dict], shares: np.ndarray, stride: int) -> None:
+def _draw_centre_offsets(offsets: np.ndarray, centred: list[dict], shares: np.ndarray, stride: int) -> None:
     """Fill ``offsets`` (2, h, w): at each cell, (centre - cell) / height (cells) of the person who covers most of
-    it (``shares``: each annotation's share of each cell). People without a centre (none projected) cover their
-    cells without an offset to learn (0, as off people)."""
-    centred = [k for k, annotation in enumerate(annotations) if annotation.get("center") is not None]
+    it, among the ``centred`` annotations (``shares``: each one's share of each cell). People without a centre (none
+    projected) cover their cells without an offset to learn (0, as off people)."""
     if not centred:
         return
-    covering = shares[centred]  # (N, h, w)
-    owner = covering.argmax(axis=0)
-    owned = covering.max(axis=0) > 0
-    centres = input_to_cells(np.array([annotations[k]["center"] for k in centred]), stride)  # (N, 2)
-    heights = np.array([person_height_px(annotations[k]) / stride for k in centred])  # (N,)
+    owner = shares.argmax(axis=0)
+    owned = shares.max(axis=0) > 0
+    centres = input_to_cells(np.array([annotation["center"] for annotation in centred]), stride)  # (N, 2)
+    heights = np.array([person_height_px(annotation) / stride for annotation in centred])  # (N,)
     rows, columns = np.nonzero(owned)
     people = owner[rows, columns]
     offsets[0, rows, columns] = (centres[people, 0] - columns) / heights[people]
